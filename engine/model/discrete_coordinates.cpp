@@ -1,0 +1,77 @@
+#include "engine/model/discrete_coordinates.h"
+
+#include <cmath>
+
+#include "engine/util/error.h"
+
+namespace ps {
+
+namespace {
+std::string who(const Model& m, int p) {
+  return "particle " + std::to_string(p) + " of component '" + m.components[m.component_of[p]].name + "'";
+}
+}  // namespace
+
+void compute_discrete_coordinates(Model& model) {
+  const int n = model.particle_count();
+  model.nbr_w.assign(model.nbr.size(), 0.0);
+  model.beta_start.assign(n + 1, 0);
+  model.beta.clear();
+  model.triplet_count.assign(n, 0);
+
+  for (int p = 0; p < n; ++p) {
+    model.beta_start[p] = static_cast<int>(model.beta.size());
+    if (!model.shape_memory[p]) continue;
+    const int s = model.nbr_start[p], e = model.nbr_start[p + 1], nn = e - s;
+    if (nn < 3)
+      throw CompileError(who(model, p) + ": only " + std::to_string(nn) +
+                         " neighbours; a shape-memory particle needs at least 3 non-collinear ones");
+    if (nn > kMaxNeighbours)
+      throw CompileError(who(model, p) + ": " + std::to_string(nn) + " neighbours, more than the limit " +
+                         std::to_string(kMaxNeighbours));
+    const Vec3 P = model.rest_pos[p];
+    double size = 0.0;
+    for (int a = s; a < e; ++a) size = std::max(size, (model.rest_pos[model.nbr[a]] - P).norm());
+    if (!(size > 0.0)) throw CompileError(who(model, p) + ": all neighbours coincide with the particle");
+
+    // accumulate alpha per neighbour and the beta triplets; divide by m at the end
+    int m = 0;
+    const int first_beta = static_cast<int>(model.beta.size());
+    for (int a = s; a < e; ++a)
+      for (int b = a + 1; b < e; ++b)
+        for (int c = b + 1; c < e; ++c) {
+          const Vec3 Ni = model.rest_pos[model.nbr[a]];
+          const Vec3 Nj = model.rest_pos[model.nbr[b]];
+          const Vec3 Nk = model.rest_pos[model.nbr[c]];
+          const Vec3 eij = Nj - Ni, eik = Nk - Ni, ejk = Nk - Nj;
+          const Vec3 nrm = eij.cross(eik);
+          const double longest2 = std::max({eij.squaredNorm(), eik.squaredNorm(), ejk.squaredNorm()});
+          if (nrm.norm() < kTripletQualityMin * longest2) continue;  // collinear: rejected
+          const Vec3 nhat = nrm.normalized();
+          const double beta = (P - Ni).dot(nhat);
+          const Vec3 Q = P - beta * nhat;
+          // barycentric coordinates of Q in (Ni, Nj, Nk)
+          const double area2 = nrm.squaredNorm();
+          // Q - Ni = aj*eij + ak*eik; crossing with eik (resp. eij) isolates aj (resp. ak)
+          const double aj = (Q - Ni).cross(eik).dot(nrm) / area2;
+          const double ak = eij.cross(Q - Ni).dot(nrm) / area2;
+          const double ai = 1.0 - aj - ak;
+          model.nbr_w[a] += ai;
+          model.nbr_w[b] += aj;
+          model.nbr_w[c] += ak;
+          if (std::abs(beta) > kBetaZeroRelative * size)
+            model.beta.push_back(BetaTriplet{model.nbr[a], model.nbr[b], model.nbr[c], beta});
+          ++m;
+        }
+    if (m == 0)
+      throw CompileError(who(model, p) + ": neighbourhood is degenerate: all " + std::to_string(nn) +
+                         " neighbours are collinear, no valid triplet");
+    model.triplet_count[p] = m;
+    const double inv_m = 1.0 / m;
+    for (int a = s; a < e; ++a) model.nbr_w[a] *= inv_m;
+    for (size_t t = first_beta; t < model.beta.size(); ++t) model.beta[t].b *= inv_m;
+  }
+  model.beta_start[n] = static_cast<int>(model.beta.size());
+}
+
+}  // namespace ps

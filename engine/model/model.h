@@ -1,0 +1,168 @@
+// The compiled, immutable description of a scene (paper §3.1): particles with neighbourhoods,
+// components, surfaces, constraints. Built once by compile_scenario(); never changed by step().
+// Every mutable quantity lives in State (engine/state/state.h).
+//
+// Shape memory (paper §3.2.3). For particle p with neighbours N_1..N_n and m valid triplets t,
+//   P*_p = (1/m) sum_t (alpha_t^i N_i + alpha_t^j N_j + alpha_t^k N_k + beta_t n_t/|n_t|)
+// The linear part collapses to one weight per neighbour, w_pj = (1/m) sum_{t∋j} alpha_t^j
+// (sum_j w_pj = 1), and only triplets with beta_t != 0 need a normal at run time; they are kept
+// with b_t = beta_t/m [m].
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/util/vec.h"
+
+namespace ps {
+
+// How the opposite of the shape-memory force reaches the neighbours (shape_memory.cpp).
+enum class Redistribution : uint8_t {
+  Gradient,  // exact gradient of sum 1/2 k_e |P*-P|^2 (default: conservative, stable)
+  Linear     // paper §3.2.3 literally: by the linear coefficients only (reference)
+};
+
+enum class ComponentKind : uint8_t { Elastic, Rigid, Active };
+
+struct Component {
+  std::string name;
+  ComponentKind kind = ComponentKind::Elastic;
+  int first_particle = 0;          // particles of a component are contiguous
+  int particle_count = 0;
+  int surface = -1;                // index into Model::surfaces, -1 if none
+  double spacing = 0.0;            // particle spacing h [m]
+  bool volumetric = true;          // interior particles present (false: surface-only)
+  // active components (muscle): contraction along fibre, scaled by State::activation
+  Vec3 fibre_dir = Vec3::UnitZ();  // unit fibre direction (rest frame)
+  double active_force = 0.0;       // force of one fibre pair at activation 1 [N]
+  int rigid_body = -1;             // index into Model::rigid_bodies for rigid components
+};
+
+// Triplet whose offset beta along the triangle normal is non-zero (needs a normal each step).
+struct BetaTriplet {
+  int i, j, k;                     // neighbour particle indices (global)
+  double b;                        // beta_t / m_p [m], signed along (N_j-N_i)x(N_k-N_i)
+};
+
+// A closed triangulated surface over particles: volume constraint (§3.3) and rendering.
+struct Surface {
+  int component = -1;
+  std::vector<int> vertices;                   // [nv] particle indices on the surface
+  std::vector<std::array<int, 3>> faces;       // [nf] particle indices, outward CCW
+  double rest_volume = 0.0;                    // V0 at compile [m^3]
+  bool volume_constrained = false;
+  // vertex-to-face incidence (CSR over vertices) for the volume gradient
+  std::vector<int> vert_face_start;            // [nv+1]
+  std::vector<int> vert_face;                  // face indices
+};
+
+// A dynamic or kinematic rigid body made of the particles of a rigid component.
+struct RigidBody {
+  int component = -1;
+  double mass = 0.0;               // [kg]
+  Mat3 inertia_body = Mat3::Identity();  // about the centre of mass, body frame [kg m^2]
+  Vec3 com_rest = Vec3::Zero();    // centre of mass at rest [m]
+  bool kinematic = true;           // true: pose only changes by command (bones, plates)
+  std::vector<int> particles;      // rigid particles
+  std::vector<Vec3> local;         // [particles] offset from com in body frame [m]
+};
+
+// Elastic particle doubled with a rigid body: held coincident with a point fixed in the body
+// (paper §3.1: "border particles ... doubled but constrained to be at the same position").
+struct RigidAttachment {
+  int particle;                    // elastic particle
+  int body;                        // RigidBody index
+  Vec3 local;                      // offset from body com in body frame [m]
+};
+
+// Per-axis fixed particle (axis mask bit 0=x, 1=y, 2=z), held at its rest coordinate.
+struct FixedParticle { int particle; uint8_t axes; };
+
+// Imposed displacement following a ramp: u(t) = by * clamp((t - t0)/(t1 - t0), 0, 1).
+struct ImposedDisplacement {
+  std::vector<int> particles;
+  Vec3 by = Vec3::Zero();          // total displacement [m]
+  uint8_t axes = 7;                // only these axes are imposed (others stay free)
+  double t0 = 0.0, t1 = 0.0;       // ramp start/end [s]
+};
+
+// Particles kept on the side of a plane where (x - point).normal >= 0.
+struct HalfSpace {
+  std::vector<int> particles;
+  Vec3 point = Vec3::Zero();       // [m]
+  Vec3 normal = Vec3::UnitZ();     // unit
+};
+
+// Locally applied force spread evenly on particles, ramped like ImposedDisplacement.
+struct AppliedForce {
+  std::vector<int> particles;
+  Vec3 total = Vec3::Zero();       // total force at full ramp [N]
+  double t0 = 0.0, t1 = 0.0;       // ramp [s]
+};
+
+// Active fibre pair: contraction force along the current pair direction.
+struct FibrePair { int a, b; int component; };
+
+struct Model {
+  std::string name;
+  std::string source_file;
+
+  // time
+  double dt = 1e-3;                // tick [s]
+  int substeps = 1;                // physics substeps per tick
+  double duration = 1.0;           // default simulated duration [s]
+  Vec3 gravity = Vec3::Zero();     // [m/s^2]
+  Redistribution redistribution = Redistribution::Gradient;
+
+  // particles [n]
+  std::vector<Vec3> rest_pos;      // [n] rest positions [m]
+  std::vector<double> mass;        // [n] [kg]
+  std::vector<double> inv_mass;    // [n] [1/kg]; 0 for rigid and kinematic particles
+  std::vector<double> k_e;         // [n] shape-memory stiffness [N/m]
+  std::vector<double> k_c;         // [n] needle cutting weight [N]
+  std::vector<double> k_f;         // [n] needle friction weight [N]
+  std::vector<double> damping;     // [n] velocity damping rate [1/s]
+  std::vector<int> component_of;   // [n]
+  std::vector<uint8_t> on_surface; // [n] 1 if on the component's surface
+  std::vector<uint8_t> locked_axes; // [n] axis mask (bit 0=x,1=y,2=z) held by fixed/imposed
+                                    // constraints or a rigid body; the volume projection leaves
+                                    // these coordinates alone
+
+  // neighbourhoods (CSR): neighbours and their linear coefficient in the attractor
+  std::vector<int> nbr_start;      // [n+1]
+  std::vector<int> nbr;            // [nnz] neighbour particle index
+  std::vector<double> nbr_w;       // [nnz] w_pj (dimensionless, sum_j w_pj = 1)
+  std::vector<int> beta_start;     // [n+1]
+  std::vector<BetaTriplet> beta;   // triplets with beta != 0
+  std::vector<int> triplet_count;  // [n] valid triplets m_p (statistics, check command)
+  std::vector<uint8_t> shape_memory; // [n] 1 if the particle carries a shape-memory force
+
+  std::vector<Component> components;
+  std::vector<Surface> surfaces;
+  std::vector<RigidBody> rigid_bodies;
+  std::vector<RigidAttachment> attachments;
+  std::vector<FixedParticle> fixed;
+  std::vector<ImposedDisplacement> imposed;
+  std::vector<HalfSpace> half_spaces;
+  std::vector<AppliedForce> applied_forces;
+  std::vector<FibrePair> fibre_pairs;
+
+  std::vector<std::string> compile_warnings;  // reported by simulate/check
+
+  // stability
+  double stable_dt_estimate = 0.0; // largest stable substep, undamped linearisation [s]
+
+  // safety limits checked each step
+  double max_speed = 50.0;         // a particle faster than this is a blow-up [m/s]
+  double max_excursion = 1.0;      // a particle farther than this from rest is a blow-up [m]
+
+  int particle_count() const { return static_cast<int>(rest_pos.size()); }
+  int find_component(const std::string& n) const {
+    for (size_t c = 0; c < components.size(); ++c)
+      if (components[c].name == n) return static_cast<int>(c);
+    return -1;
+  }
+};
+
+}  // namespace ps

@@ -1,0 +1,373 @@
+#include "engine/scenario/compile.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+
+#include "engine/model/discrete_coordinates.h"
+#include "engine/model/material.h"
+#include "engine/scenario/particle_set.h"
+#include "engine/scenario/shape_mesh.h"
+#include "engine/step/stages.h"
+#include "engine/util/error.h"
+#include "engine/util/spatial_grid.h"
+
+namespace ps {
+
+namespace {
+
+const MaterialSpec& find_material(const ScenarioSpec& spec, const std::string& name) {
+  for (const auto& m : spec.materials)
+    if (m.name == name) return m;
+  throw std::logic_error("material checked by the parser");
+}
+
+ParticleSet build_particles(const ComponentSpec& c, const std::string& file) {
+  const ShapeSpec& s = c.shape;
+  switch (s.kind) {
+    case ShapeSpec::Box: {
+      const Vec3 size = s.max - s.min;
+      if (size.minCoeff() < c.spacing)
+        throw InputError(file, c.loc.line, "components." + c.name + ".spacing_mm",
+                         "spacing is larger than the smallest box side");
+      return box_particles(s.min, s.max, c.spacing, c.volumetric);
+    }
+    case ShapeSpec::Cylinder: {
+      if (2 * s.radius < c.spacing || s.length < c.spacing)
+        throw InputError(file, c.loc.line, "components." + c.name + ".spacing_mm",
+                         "spacing is larger than the cylinder diameter or length");
+      const TriMesh surf = cylinder_surface(s.base, s.axis, s.radius, s.length, c.spacing);
+      if (!c.volumetric) return surface_particles(surf);
+      const Vec3 ax = s.axis.normalized();
+      auto radial = [&](const Vec3& p) {
+        const Vec3 d = p - s.base;
+        return std::pair{(d - d.dot(ax) * ax).norm(), d.dot(ax)};
+      };
+      return volumetric_particles(
+          surf, c.spacing,
+          [&](const Vec3& p) {
+            auto [r, z] = radial(p);
+            return r < s.radius && z > 0 && z < s.length;
+          },
+          [&](const Vec3& p) {
+            auto [r, z] = radial(p);
+            return std::min({s.radius - r, z, s.length - z});
+          });
+    }
+    case ShapeSpec::Mesh: return particles_from_mesh(c, file);
+  }
+  return {};
+}
+
+struct Selection {
+  std::vector<int> particles;
+};
+
+}  // namespace
+
+double estimate_stable_dt(const Model& m) {
+  const int n = m.particle_count();
+  bool any = false;
+  for (int p = 0; p < n; ++p) any |= (m.shape_memory[p] && m.inv_mass[p] > 0.0);
+  if (!any) return std::numeric_limits<double>::infinity();
+  State s = make_state(m);
+  std::vector<Vec3> v(n), w(n);
+  std::mt19937_64 rng(12345);  // fixed seed: the estimate is reproducible
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  auto free_axis = [&](int p, int a) { return m.inv_mass[p] > 0.0 && !(m.locked_axes[p] & (1u << a)); };
+  for (int p = 0; p < n; ++p)
+    for (int a = 0; a < 3; ++a) v[p][a] = free_axis(p, a) ? U(rng) : 0.0;
+  double scale = 0.0;
+  for (const Vec3& r : m.rest_pos) scale = std::max(scale, r.cwiseAbs().maxCoeff());
+  double lambda = 0.0;
+  for (int it = 0; it < 60; ++it) {
+    double norm = 0.0;
+    for (const Vec3& x : v) norm += x.squaredNorm();
+    norm = std::sqrt(norm);
+    if (!(norm > 0.0)) break;
+    const double eps = 1e-7 * std::max(scale, 1e-3) / norm;
+    for (int p = 0; p < n; ++p) { s.x[p] = m.rest_pos[p] + eps * v[p]; s.f[p].setZero(); }
+    add_shape_memory_forces(m, s);
+    double wn = 0.0;
+    for (int p = 0; p < n; ++p) {
+      for (int a = 0; a < 3; ++a) w[p][a] = free_axis(p, a) ? -s.f[p][a] * m.inv_mass[p] / eps : 0.0;
+      wn += w[p].squaredNorm();
+    }
+    wn = std::sqrt(wn);
+    lambda = wn / norm;  // |A v| / |v| -> |lambda_max|
+    if (!(wn > 0.0)) break;
+    for (int p = 0; p < n; ++p) v[p] = w[p] / wn;  // renormalise: no overflow
+  }
+  return lambda > 0.0 ? 2.0 / std::sqrt(lambda) : std::numeric_limits<double>::infinity();
+}
+
+std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileReport* report) {
+  const auto t_start = std::chrono::steady_clock::now();
+  auto model = std::make_shared<Model>();
+  Model& m = *model;
+  m.name = spec.name;
+  m.source_file = spec.file;
+  m.dt = spec.dt;
+  m.substeps = spec.substeps;
+  m.duration = spec.duration;
+  m.gravity = spec.gravity;
+  m.redistribution = spec.linear_redistribution ? Redistribution::Linear : Redistribution::Gradient;
+  std::vector<std::string> warnings;
+
+  // particles of every component, contiguous per component
+  std::vector<std::vector<int>> nbrs;  // global neighbour lists, filled per component then links
+  std::vector<std::vector<std::array<int, 3>>> faces_of(spec.components.size());
+  for (size_t ci = 0; ci < spec.components.size(); ++ci) {
+    const ComponentSpec& cs = spec.components[ci];
+    ParticleSet set = build_particles(cs, spec.file);
+    if (set.pos.empty())
+      throw InputError(spec.file, cs.loc.line, "components." + cs.name, "component has no particles");
+    Component comp;
+    comp.name = cs.name;
+    comp.kind = cs.kind == "rigid" ? ComponentKind::Rigid : cs.kind == "active" ? ComponentKind::Active : ComponentKind::Elastic;
+    comp.first_particle = m.particle_count();
+    comp.particle_count = static_cast<int>(set.pos.size());
+    comp.spacing = cs.spacing;
+    comp.volumetric = cs.volumetric;
+    comp.fibre_dir = cs.fibre;
+    comp.active_force = cs.active_stress * cs.spacing * cs.spacing;
+    const int off = comp.first_particle;
+    for (size_t p = 0; p < set.pos.size(); ++p) {
+      m.rest_pos.push_back(set.pos[p]);
+      m.component_of.push_back(static_cast<int>(ci));
+      m.on_surface.push_back(set.on_surface[p]);
+      std::vector<int> nb;
+      for (int q : set.nbrs[p]) nb.push_back(q + off);
+      nbrs.push_back(std::move(nb));
+    }
+    for (auto f : set.faces) faces_of[ci].push_back({f[0] + off, f[1] + off, f[2] + off});
+    m.components.push_back(comp);
+  }
+  const int n = m.particle_count();
+
+  // materials: mass from the component's enclosed volume, stiffness from E and spacing
+  m.mass.assign(n, 0.0);
+  m.k_e.assign(n, 0.0);
+  m.k_c.assign(n, 0.0);
+  m.k_f.assign(n, 0.0);
+  m.damping.assign(n, 0.0);
+  for (size_t ci = 0; ci < spec.components.size(); ++ci) {
+    const ComponentSpec& cs = spec.components[ci];
+    const MaterialSpec& mat = find_material(spec, cs.material);
+    const Component& comp = m.components[ci];
+    double volume = 0.0;
+    for (const auto& f : faces_of[ci]) volume += m.rest_pos[f[0]].dot(m.rest_pos[f[1]].cross(m.rest_pos[f[2]])) / 6.0;
+    if (!cs.volumetric) {
+      // membrane: mass of a shell one spacing thick
+      double area = 0.0;
+      for (const auto& f : faces_of[ci])
+        area += 0.5 * (m.rest_pos[f[1]] - m.rest_pos[f[0]]).cross(m.rest_pos[f[2]] - m.rest_pos[f[0]]).norm();
+      volume = area * cs.spacing;
+    }
+    if (!(volume > 0.0))
+      throw CompileError("component '" + cs.name + "': surface encloses no positive volume (inverted or open)");
+    const double pm = mat.density * volume / comp.particle_count;
+    const double ke = mat.k_e ? *mat.k_e : shape_memory_stiffness(*mat.young, cs.spacing);
+    for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p) {
+      m.mass[p] = pm;
+      m.k_e[p] = ke;
+      m.k_c[p] = mat.k_c;
+      m.k_f[p] = mat.k_f;
+      m.damping[p] = mat.damping;
+    }
+  }
+  for (size_t oi = 0; oi < spec.overrides.size(); ++oi) {
+    const OverrideSpec& o = spec.overrides[oi];
+    const int ci = m.find_component(o.component);
+    const Component& comp = m.components[ci];
+    int hits = 0;
+    for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p) {
+      if (!o.region.contains(m.rest_pos[p])) continue;
+      ++hits;
+      if (o.young) m.k_e[p] = shape_memory_stiffness(*o.young, comp.spacing);
+      if (o.k_e) m.k_e[p] = *o.k_e;
+      if (o.k_c) m.k_c[p] = *o.k_c;
+      if (o.k_f) m.k_f[p] = *o.k_f;
+      if (o.damping) m.damping[p] = *o.damping;
+    }
+    if (hits == 0)
+      throw InputError(spec.file, o.loc.line, "overrides[" + std::to_string(oi) + "].region",
+                       "selects no particle of component '" + o.component + "'");
+  }
+
+  // rigid components become bodies
+  m.inv_mass.assign(n, 0.0);
+  m.shape_memory.assign(n, 0);
+  m.locked_axes.assign(n, 0);
+  for (size_t ci = 0; ci < spec.components.size(); ++ci) {
+    Component& comp = m.components[ci];
+    const int b = comp.first_particle, e = b + comp.particle_count;
+    if (comp.kind != ComponentKind::Rigid) {
+      for (int p = b; p < e; ++p) { m.inv_mass[p] = 1.0 / m.mass[p]; m.shape_memory[p] = 1; }
+      continue;
+    }
+    RigidBody rb;
+    rb.component = static_cast<int>(ci);
+    rb.kinematic = spec.components[ci].kinematic;
+    for (int p = b; p < e; ++p) { rb.mass += m.mass[p]; rb.com_rest += m.mass[p] * m.rest_pos[p]; }
+    rb.com_rest /= rb.mass;
+    rb.inertia_body.setZero();
+    for (int p = b; p < e; ++p) {
+      const Vec3 r = m.rest_pos[p] - rb.com_rest;
+      rb.particles.push_back(p);
+      rb.local.push_back(r);
+      rb.inertia_body += m.mass[p] * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+      m.locked_axes[p] = 7;
+    }
+    comp.rigid_body = static_cast<int>(m.rigid_bodies.size());
+    m.rigid_bodies.push_back(std::move(rb));
+  }
+
+  // links across components (paper §3.1, Fig. 3)
+  for (size_t li = 0; li < spec.links.size(); ++li) {
+    const LinkSpec& l = spec.links[li];
+    const Component& A = m.components[m.find_component(l.a)];
+    const Component& B = m.components[m.find_component(l.b)];
+    const bool ra = A.kind == ComponentKind::Rigid, rb = B.kind == ComponentKind::Rigid;
+    if (ra && rb)
+      throw InputError(spec.file, l.loc.line, "links[" + std::to_string(li) + "]",
+                       "two rigid components are linked through an elastic component, not directly");
+    int made = 0;
+    if (ra || rb) {
+      // rigid-elastic: elastic border particles doubled onto the body
+      const Component& R = ra ? A : B;
+      const Component& E = ra ? B : A;
+      std::vector<Vec3> rpts(m.rest_pos.begin() + R.first_particle, m.rest_pos.begin() + R.first_particle + R.particle_count);
+      const SpatialGrid grid(rpts, l.distance);
+      const RigidBody& body = m.rigid_bodies[R.rigid_body];
+      for (int p = E.first_particle; p < E.first_particle + E.particle_count; ++p) {
+        bool near = false;
+        grid.for_each_within(m.rest_pos[p], l.distance, [&](int, double) { near = true; });
+        if (!near || m.inv_mass[p] == 0.0) continue;
+        m.attachments.push_back(RigidAttachment{p, R.rigid_body, m.rest_pos[p] - body.com_rest});
+        m.inv_mass[p] = 0.0;
+        m.locked_axes[p] = 7;
+        ++made;
+      }
+    } else {
+      // elastic-elastic: border particles get their nearest neighbours in the other component
+      auto connect = [&](const Component& from, const Component& to) {
+        std::vector<Vec3> tpts(m.rest_pos.begin() + to.first_particle, m.rest_pos.begin() + to.first_particle + to.particle_count);
+        const SpatialGrid grid(tpts, l.distance);
+        for (int p = from.first_particle; p < from.first_particle + from.particle_count; ++p) {
+          std::vector<std::pair<double, int>> cand;
+          grid.for_each_within(m.rest_pos[p], l.distance, [&](int q, double d) { cand.emplace_back(d, q + to.first_particle); });
+          std::sort(cand.begin(), cand.end());
+          for (size_t c = 0; c < cand.size() && c < 3; ++c) {
+            if (nbrs[p].size() >= static_cast<size_t>(kMaxNeighbours)) break;
+            nbrs[p].push_back(cand[c].second);
+            ++made;
+          }
+        }
+      };
+      connect(A, B);
+      connect(B, A);
+    }
+    if (made == 0)
+      throw InputError(spec.file, l.loc.line, "links[" + std::to_string(li) + "].distance_mm",
+                       "no particles of '" + l.a + "' and '" + l.b + "' are that close: nothing linked");
+  }
+
+  // neighbourhoods to CSR; rigid particles carry no shape memory
+  m.nbr_start.assign(n + 1, 0);
+  for (int p = 0; p < n; ++p) {
+    m.nbr_start[p] = static_cast<int>(m.nbr.size());
+    if (m.shape_memory[p]) m.nbr.insert(m.nbr.end(), nbrs[p].begin(), nbrs[p].end());
+  }
+  m.nbr_start[n] = static_cast<int>(m.nbr.size());
+
+  // constraints and applied forces
+  for (size_t ki = 0; ki < spec.constraints.size(); ++ki) {
+    const ConstraintSpec& c = spec.constraints[ki];
+    const std::string key = "constraints[" + std::to_string(ki) + "]";
+    std::vector<int> sel;
+    for (int p = 0; p < n; ++p) {
+      if (!c.component.empty() && m.components[m.component_of[p]].name != c.component) continue;
+      if (m.components[m.component_of[p]].kind == ComponentKind::Rigid) continue;
+      if (c.kind == ConstraintSpec::HalfSpace || c.region.contains(m.rest_pos[p])) sel.push_back(p);
+    }
+    if (sel.empty()) throw InputError(spec.file, c.loc.line, key + ".region", "selects no particle");
+    switch (c.kind) {
+      case ConstraintSpec::Fix:
+        for (int p : sel) { m.fixed.push_back({p, c.axes}); m.locked_axes[p] |= c.axes; }
+        break;
+      case ConstraintSpec::Displace:
+        m.imposed.push_back(ImposedDisplacement{sel, c.by, c.axes, c.t0, c.t1});
+        for (int p : sel) m.locked_axes[p] |= c.axes;
+        break;
+      case ConstraintSpec::HalfSpace: {
+        for (int p : sel)
+          if ((m.rest_pos[p] - c.region.point).dot(c.region.normal) < -1e-9)
+            throw InputError(spec.file, c.loc.line, key + ".point_mm",
+                             "particle " + std::to_string(p) + " starts outside the allowed half-space");
+        m.half_spaces.push_back(HalfSpace{sel, c.region.point, c.region.normal});
+        break;
+      }
+      case ConstraintSpec::Force: m.applied_forces.push_back(AppliedForce{sel, c.by, c.t0, c.t1}); break;
+    }
+  }
+
+  compute_discrete_coordinates(m);
+
+  // surfaces: one per component; volume-constrained when the material is incompressible
+  for (size_t ci = 0; ci < spec.components.size(); ++ci) {
+    const MaterialSpec& mat = find_material(spec, spec.components[ci].material);
+    Surface s;
+    s.component = static_cast<int>(ci);
+    s.faces = faces_of[ci];
+    std::vector<int> verts;
+    for (const auto& f : s.faces) verts.insert(verts.end(), f.begin(), f.end());
+    std::sort(verts.begin(), verts.end());
+    verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+    s.vertices = verts;
+    for (const auto& f : s.faces) {
+      const Vec3 cr = (m.rest_pos[f[1]] - m.rest_pos[f[0]]).cross(m.rest_pos[f[2]] - m.rest_pos[f[0]]);
+      if (!(cr.norm() > 0.0))
+        throw CompileError("component '" + spec.components[ci].name + "': zero-area surface face (" +
+                           std::to_string(f[0]) + ", " + std::to_string(f[1]) + ", " + std::to_string(f[2]) + ")");
+    }
+    s.rest_volume = surface_volume(s, m.rest_pos);
+    s.volume_constrained = mat.incompressible && m.components[ci].kind != ComponentKind::Rigid;
+    m.components[ci].surface = static_cast<int>(m.surfaces.size());
+    m.surfaces.push_back(std::move(s));
+  }
+
+  // active fibres: neighbour pairs whose rest direction is within 30 degrees of the fibre
+  for (size_t ci = 0; ci < m.components.size(); ++ci) {
+    const Component& comp = m.components[ci];
+    if (comp.kind != ComponentKind::Active) continue;
+    for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p)
+      for (int a = m.nbr_start[p]; a < m.nbr_start[p + 1]; ++a) {
+        const int q = m.nbr[a];
+        if (q <= p || m.component_of[q] != static_cast<int>(ci)) continue;
+        const Vec3 d = (m.rest_pos[q] - m.rest_pos[p]).normalized();
+        if (std::abs(d.dot(comp.fibre_dir)) > std::cos(30.0 * 3.14159265358979 / 180.0))
+          m.fibre_pairs.push_back(FibrePair{p, q, static_cast<int>(ci)});
+      }
+  }
+
+  // stability: raise substeps so each substep is at most 90% of the estimated limit
+  m.stable_dt_estimate = estimate_stable_dt(m);
+  const double h = m.dt / m.substeps;
+  if (h > 0.9 * m.stable_dt_estimate) {
+    const int need = static_cast<int>(std::ceil(m.dt / (0.9 * m.stable_dt_estimate)));
+    warnings.push_back("substeps raised from " + std::to_string(m.substeps) + " to " + std::to_string(need) +
+                       ": substep " + std::to_string(h) + " s exceeds 90% of the stable limit " +
+                       std::to_string(m.stable_dt_estimate) + " s");
+    m.substeps = need;
+  }
+  m.compile_warnings = warnings;
+  if (report) {
+    report->warnings = warnings;
+    report->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  }
+  return model;
+}
+
+}  // namespace ps

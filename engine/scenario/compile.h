@@ -1,0 +1,28 @@
+// Turns a ScenarioSpec into an immutable Model: particles for every component, neighbourhoods
+// (including links across components), discrete deformation coordinates, materials, constraints,
+// surfaces with rest volumes, rigid bodies, and the largest stable time step.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/model/model.h"
+#include "engine/scenario/scenario_spec.h"
+
+namespace ps {
+
+struct CompileReport {
+  std::vector<std::string> warnings;   // e.g. substeps raised for stability
+  double seconds = 0.0;                // wall time of the compile (not physics)
+};
+
+// Throws InputError (bad spec: names file:line and key) or CompileError (degenerate geometry:
+// names the particle or face).
+std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileReport* report = nullptr);
+
+// Largest stable step of the explicit scheme for the undamped linearisation at rest:
+// dt = 2 / sqrt(lambda_max(M^-1 K)), lambda_max by power iteration on finite differences of the
+// shape-memory force. [s]
+double estimate_stable_dt(const Model& model);
+
+}  // namespace ps

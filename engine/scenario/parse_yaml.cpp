@@ -1,0 +1,351 @@
+// Scenario file reader. Files are in millimetres, kilopascals and milliseconds where people
+// think in them (the key says the unit: spacing_mm, young_kpa, dt_ms); converted to SI here.
+#include "engine/scenario/parse_yaml.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "engine/scenario/yaml_reader.h"
+
+namespace ps {
+
+namespace {
+
+constexpr double kMm = 1e-3;   // mm -> m
+constexpr double kKpa = 1e3;   // kPa -> Pa
+
+SourceLoc loc_of(const YamlReader& r, const YAML::Node& n) { return SourceLoc{r.file(), YamlReader::line_of(n)}; }
+
+uint8_t parse_axes(const YamlReader& r, const YAML::Node& v, const std::string& key) {
+  const std::string s = r.string(v, key);
+  uint8_t mask = 0;
+  for (char c : s) {
+    if (c == 'x') mask |= 1;
+    else if (c == 'y') mask |= 2;
+    else if (c == 'z') mask |= 4;
+    else r.fail(v, key, "axes must be letters from 'xyz', got '" + s + "'");
+  }
+  return mask;
+}
+
+void parse_ramp(const YamlReader& r, const YAML::Node& v, const std::string& key, double& t0, double& t1) {
+  if (!v.IsSequence() || v.size() != 2) r.fail(v, key, "expected [start_s, end_s]");
+  t0 = r.non_negative(v[0], key);
+  t1 = r.non_negative(v[1], key);
+  if (t1 < t0) r.fail(v, key, "ramp end is before its start");
+}
+
+RegionSpec parse_region(const YamlReader& r, const YAML::Node& v, const std::string& key) {
+  RegionSpec reg;
+  if (v.IsScalar() && v.Scalar() == "all") return reg;
+  r.only_keys(v, key, {"box", "sphere", "half_space"});
+  if (v.size() != 1) r.fail(v, key, "a region is exactly one of box, sphere, half_space or 'all'");
+  if (v["box"]) {
+    const YAML::Node b = v["box"];
+    const std::string k = key + ".box";
+    r.only_keys(b, k, {"min_mm", "max_mm"});
+    reg.kind = RegionSpec::Box;
+    reg.min = r.vec3(r.require(b, k, "min_mm"), k + ".min_mm", kMm);
+    reg.max = r.vec3(r.require(b, k, "max_mm"), k + ".max_mm", kMm);
+    for (int a = 0; a < 3; ++a)
+      if (reg.max[a] < reg.min[a]) r.fail(b, k, "max_mm is below min_mm on an axis");
+  } else if (v["sphere"]) {
+    const YAML::Node s = v["sphere"];
+    const std::string k = key + ".sphere";
+    r.only_keys(s, k, {"center_mm", "radius_mm"});
+    reg.kind = RegionSpec::Sphere;
+    reg.center = r.vec3(r.require(s, k, "center_mm"), k + ".center_mm", kMm);
+    reg.radius = r.positive(r.require(s, k, "radius_mm"), k + ".radius_mm") * kMm;
+  } else {
+    const YAML::Node h = v["half_space"];
+    const std::string k = key + ".half_space";
+    r.only_keys(h, k, {"point_mm", "normal"});
+    reg.kind = RegionSpec::HalfSpace;
+    reg.point = r.vec3(r.require(h, k, "point_mm"), k + ".point_mm", kMm);
+    reg.normal = r.unit_vec3(r.require(h, k, "normal"), k + ".normal");
+  }
+  return reg;
+}
+
+MaterialSpec parse_material(const YamlReader& r, const std::string& name, const YAML::Node& v) {
+  const std::string k = "materials." + name;
+  r.only_keys(v, k, {"young_kpa", "k_e_n_m", "density_kg_m3", "damping_1_s", "incompressible", "k_c_n", "k_f_n"});
+  MaterialSpec m;
+  m.name = name;
+  m.loc = loc_of(r, v);
+  if (v["young_kpa"]) m.young = r.positive(v["young_kpa"], k + ".young_kpa") * kKpa;
+  if (v["k_e_n_m"]) m.k_e = r.positive(v["k_e_n_m"], k + ".k_e_n_m");
+  if (!m.young && !m.k_e) r.fail(v, k, "give young_kpa (Young's modulus) or k_e_n_m (raw stiffness)");
+  if (v["density_kg_m3"]) m.density = r.positive(v["density_kg_m3"], k + ".density_kg_m3");
+  if (v["damping_1_s"]) m.damping = r.non_negative(v["damping_1_s"], k + ".damping_1_s");
+  if (v["incompressible"]) m.incompressible = r.boolean(v["incompressible"], k + ".incompressible");
+  if (v["k_c_n"]) m.k_c = r.non_negative(v["k_c_n"], k + ".k_c_n");
+  if (v["k_f_n"]) m.k_f = r.non_negative(v["k_f_n"], k + ".k_f_n");
+  return m;
+}
+
+ShapeSpec parse_shape(const YamlReader& r, const YAML::Node& c, const std::string& k, const std::string& dir) {
+  ShapeSpec s;
+  const int count = (c["box"] ? 1 : 0) + (c["cylinder"] ? 1 : 0) + (c["mesh"] ? 1 : 0);
+  if (count != 1) r.fail(c, k, "a component needs exactly one shape: box, cylinder or mesh");
+  if (c["box"]) {
+    const YAML::Node b = c["box"];
+    const std::string kb = k + ".box";
+    r.only_keys(b, kb, {"min_mm", "max_mm"});
+    s.kind = ShapeSpec::Box;
+    s.min = r.vec3(r.require(b, kb, "min_mm"), kb + ".min_mm", kMm);
+    s.max = r.vec3(r.require(b, kb, "max_mm"), kb + ".max_mm", kMm);
+    for (int a = 0; a < 3; ++a)
+      if (!(s.max[a] > s.min[a])) r.fail(b, kb, "box must have max_mm > min_mm on every axis");
+  } else if (c["cylinder"]) {
+    const YAML::Node y = c["cylinder"];
+    const std::string ky = k + ".cylinder";
+    r.only_keys(y, ky, {"base_mm", "axis", "radius_mm", "length_mm"});
+    s.kind = ShapeSpec::Cylinder;
+    s.base = y["base_mm"] ? r.vec3(y["base_mm"], ky + ".base_mm", kMm) : Vec3::Zero();
+    s.axis = y["axis"] ? r.unit_vec3(y["axis"], ky + ".axis") : Vec3::UnitZ();
+    s.radius = r.positive(r.require(y, ky, "radius_mm"), ky + ".radius_mm") * kMm;
+    s.length = r.positive(r.require(y, ky, "length_mm"), ky + ".length_mm") * kMm;
+  } else {
+    const YAML::Node me = c["mesh"];
+    const std::string km = k + ".mesh";
+    r.only_keys(me, km, {"file", "units", "translate_mm", "rotate_deg", "scale"});
+    s.kind = ShapeSpec::Mesh;
+    std::filesystem::path p = r.string(r.require(me, km, "file"), km + ".file");
+    if (p.is_relative()) p = std::filesystem::path(dir) / p;
+    s.mesh.file = p.lexically_normal().string();
+    const std::string units = me["units"] ? r.string(me["units"], km + ".units") : "mm";
+    if (units == "mm") s.mesh.unit_scale = 1e-3;
+    else if (units == "cm") s.mesh.unit_scale = 1e-2;
+    else if (units == "dm") s.mesh.unit_scale = 1e-1;
+    else if (units == "m") s.mesh.unit_scale = 1.0;
+    else r.fail(me["units"], km + ".units", "units must be mm, cm, dm or m");
+    if (me["translate_mm"]) s.mesh.translate = r.vec3(me["translate_mm"], km + ".translate_mm", kMm);
+    if (me["rotate_deg"]) s.mesh.rotate_deg = r.vec3(me["rotate_deg"], km + ".rotate_deg");
+    if (me["scale"]) {
+      if (me["scale"].IsSequence()) s.mesh.scale = r.vec3(me["scale"], km + ".scale");
+      else s.mesh.scale = Vec3::Constant(r.positive(me["scale"], km + ".scale"));
+      if (!(s.mesh.scale.minCoeff() > 0)) r.fail(me["scale"], km + ".scale", "scale must be positive");
+    }
+  }
+  return s;
+}
+
+ComponentSpec parse_component(const YamlReader& r, const YAML::Node& c, int index, const std::string& dir) {
+  const std::string k = "components[" + std::to_string(index) + "]";
+  r.only_keys(c, k, {"name", "type", "material", "spacing_mm", "fill", "box", "cylinder", "mesh", "kinematic",
+                     "fibre", "active_stress_kpa", "activation"});
+  ComponentSpec cs;
+  cs.loc = loc_of(r, c);
+  cs.name = r.string(r.require(c, k, "name"), k + ".name");
+  if (c["type"]) {
+    cs.kind = r.string(c["type"], k + ".type");
+    if (cs.kind != "elastic" && cs.kind != "rigid" && cs.kind != "active")
+      r.fail(c["type"], k + ".type", "type must be elastic, rigid or active");
+  }
+  cs.material = r.string(r.require(c, k, "material"), k + ".material");
+  cs.spacing = r.positive(r.require(c, k, "spacing_mm"), k + ".spacing_mm") * kMm;
+  if (c["fill"]) {
+    const std::string f = r.string(c["fill"], k + ".fill");
+    if (f == "volumetric") cs.volumetric = true;
+    else if (f == "surface") cs.volumetric = false;
+    else r.fail(c["fill"], k + ".fill", "fill must be volumetric or surface");
+  }
+  cs.shape = parse_shape(r, c, k, dir);
+  if (c["kinematic"]) {
+    if (cs.kind != "rigid") r.fail(c["kinematic"], k + ".kinematic", "only rigid components are kinematic");
+    cs.kinematic = r.boolean(c["kinematic"], k + ".kinematic");
+  }
+  const bool any_active = c["fibre"] || c["active_stress_kpa"] || c["activation"];
+  if (any_active && cs.kind != "active")
+    r.fail(c, k, "fibre / active_stress_kpa / activation only apply to type: active");
+  if (cs.kind == "active") {
+    cs.fibre = r.unit_vec3(r.require(c, k, "fibre"), k + ".fibre");
+    cs.active_stress = r.non_negative(r.require(c, k, "active_stress_kpa"), k + ".active_stress_kpa") * kKpa;
+    if (c["activation"]) {
+      cs.activation = r.number(c["activation"], k + ".activation");
+      if (cs.activation < 0.0 || cs.activation > 1.0) r.fail(c["activation"], k + ".activation", "must be in [0, 1]");
+    }
+  }
+  return cs;
+}
+
+ConstraintSpec parse_constraint(const YamlReader& r, const YAML::Node& c, int index) {
+  const std::string k = "constraints[" + std::to_string(index) + "]";
+  r.only_keys(c, k, {"fix", "displace", "half_space", "force"});
+  if (c.size() != 1) r.fail(c, k, "each constraint is exactly one of fix, displace, half_space, force");
+  ConstraintSpec cs;
+  cs.loc = loc_of(r, c);
+  const std::string kind = c.begin()->first.as<std::string>();
+  const YAML::Node v = c.begin()->second;
+  const std::string kk = k + "." + kind;
+  if (kind == "fix") {
+    cs.kind = ConstraintSpec::Fix;
+    r.only_keys(v, kk, {"component", "region", "axes"});
+  } else if (kind == "displace") {
+    cs.kind = ConstraintSpec::Displace;
+    r.only_keys(v, kk, {"component", "region", "axes", "by_mm", "ramp_s"});
+    cs.by = r.vec3(r.require(v, kk, "by_mm"), kk + ".by_mm", kMm);
+    parse_ramp(r, r.require(v, kk, "ramp_s"), kk + ".ramp_s", cs.t0, cs.t1);
+  } else if (kind == "half_space") {
+    cs.kind = ConstraintSpec::HalfSpace;
+    r.only_keys(v, kk, {"component", "point_mm", "normal"});
+    cs.region.kind = RegionSpec::HalfSpace;
+    cs.region.point = r.vec3(r.require(v, kk, "point_mm"), kk + ".point_mm", kMm);
+    cs.region.normal = r.unit_vec3(r.require(v, kk, "normal"), kk + ".normal");
+  } else {
+    cs.kind = ConstraintSpec::Force;
+    r.only_keys(v, kk, {"component", "region", "total_n", "ramp_s"});
+    cs.by = r.vec3(r.require(v, kk, "total_n"), kk + ".total_n");
+    if (v["ramp_s"]) parse_ramp(r, v["ramp_s"], kk + ".ramp_s", cs.t0, cs.t1);
+  }
+  if (v["component"]) cs.component = r.string(v["component"], kk + ".component");
+  if (cs.kind != ConstraintSpec::HalfSpace) cs.region = parse_region(r, r.require(v, kk, "region"), kk + ".region");
+  if (v["axes"]) cs.axes = parse_axes(r, v["axes"], kk + ".axes");
+  if (cs.axes == 0) r.fail(v["axes"], kk + ".axes", "no axis selected");
+  return cs;
+}
+
+OverrideSpec parse_override(const YamlReader& r, const YAML::Node& v, int index) {
+  const std::string k = "overrides[" + std::to_string(index) + "]";
+  r.only_keys(v, k, {"component", "region", "young_kpa", "k_e_n_m", "k_c_n", "k_f_n", "damping_1_s"});
+  OverrideSpec o;
+  o.loc = loc_of(r, v);
+  o.component = r.string(r.require(v, k, "component"), k + ".component");
+  o.region = parse_region(r, r.require(v, k, "region"), k + ".region");
+  if (v["young_kpa"]) o.young = r.positive(v["young_kpa"], k + ".young_kpa") * kKpa;
+  if (v["k_e_n_m"]) o.k_e = r.positive(v["k_e_n_m"], k + ".k_e_n_m");
+  if (v["k_c_n"]) o.k_c = r.non_negative(v["k_c_n"], k + ".k_c_n");
+  if (v["k_f_n"]) o.k_f = r.non_negative(v["k_f_n"], k + ".k_f_n");
+  if (v["damping_1_s"]) o.damping = r.non_negative(v["damping_1_s"], k + ".damping_1_s");
+  if (!o.young && !o.k_e && !o.k_c && !o.k_f && !o.damping) r.fail(v, k, "an override must set at least one parameter");
+  return o;
+}
+
+}  // namespace
+
+ScenarioSpec parse_scenario_text(const std::string& text, const std::string& path) {
+  const YamlReader r(path);
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw InputError(path, static_cast<int>(e.mark.line) + 1, "", "YAML syntax error: " + e.msg);
+  }
+  if (!root.IsMap()) throw InputError(path, 1, "", "a scenario file is a YAML mapping (name:, components:, ...)");
+  r.only_keys(root, "", {"name", "solver", "time", "gravity_m_s2", "rest", "materials", "components", "constraints",
+                         "overrides", "links"});
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  ScenarioSpec s;
+  s.file = path;
+  s.name = r.string(r.require(root, "", "name"), "name");
+  if (root["time"]) {
+    const YAML::Node t = root["time"];
+    r.only_keys(t, "time", {"dt_ms", "substeps", "duration_s"});
+    if (t["dt_ms"]) s.dt = r.positive(t["dt_ms"], "time.dt_ms") * 1e-3;
+    if (t["substeps"]) {
+      s.substeps = r.integer(t["substeps"], "time.substeps");
+      if (s.substeps < 1 || s.substeps > 100000) r.fail(t["substeps"], "time.substeps", "must be in 1..100000");
+    }
+    if (t["duration_s"]) s.duration = r.positive(t["duration_s"], "time.duration_s");
+  }
+  if (root["solver"]) {
+    const YAML::Node t = root["solver"];
+    r.only_keys(t, "solver", {"redistribution"});
+    if (t["redistribution"]) {
+      const std::string v = r.string(t["redistribution"], "solver.redistribution");
+      if (v == "linear") s.linear_redistribution = true;
+      else if (v != "gradient") r.fail(t["redistribution"], "solver.redistribution", "must be gradient or linear");
+    }
+  }
+  if (root["gravity_m_s2"]) s.gravity = r.vec3(root["gravity_m_s2"], "gravity_m_s2");
+  if (root["rest"]) {
+    const YAML::Node t = root["rest"];
+    r.only_keys(t, "rest", {"kinetic_energy_j", "hold_s"});
+    if (t["kinetic_energy_j"]) s.rest_kinetic_energy = r.positive(t["kinetic_energy_j"], "rest.kinetic_energy_j");
+    if (t["hold_s"]) s.rest_hold = r.non_negative(t["hold_s"], "rest.hold_s");
+  }
+  const YAML::Node mats = r.require(root, "", "materials");
+  if (!mats.IsMap() || mats.size() == 0) r.fail(mats, "materials", "expected a non-empty mapping name -> material");
+  for (auto it = mats.begin(); it != mats.end(); ++it)
+    s.materials.push_back(parse_material(r, it->first.as<std::string>(), it->second));
+  const YAML::Node comps = r.require(root, "", "components");
+  if (!comps.IsSequence() || comps.size() == 0) r.fail(comps, "components", "expected a non-empty list");
+  for (size_t i = 0; i < comps.size(); ++i) s.components.push_back(parse_component(r, comps[i], static_cast<int>(i), dir));
+  auto list = [&](const char* key) {
+    const YAML::Node n = root[key];
+    if (n && !n.IsSequence()) r.fail(n, key, "expected a list");
+    return n;
+  };
+  if (const YAML::Node n = list("constraints"))
+    for (size_t i = 0; i < n.size(); ++i) s.constraints.push_back(parse_constraint(r, n[i], static_cast<int>(i)));
+  if (const YAML::Node n = list("overrides"))
+    for (size_t i = 0; i < n.size(); ++i) s.overrides.push_back(parse_override(r, n[i], static_cast<int>(i)));
+  if (const YAML::Node n = list("links"))
+    for (size_t i = 0; i < n.size(); ++i) {
+      const std::string k = "links[" + std::to_string(i) + "]";
+      r.only_keys(n[i], k, {"a", "b", "distance_mm"});
+      LinkSpec l;
+      l.loc = loc_of(r, n[i]);
+      l.a = r.string(r.require(n[i], k, "a"), k + ".a");
+      l.b = r.string(r.require(n[i], k, "b"), k + ".b");
+      l.distance = r.positive(r.require(n[i], k, "distance_mm"), k + ".distance_mm") * kMm;
+      s.links.push_back(l);
+    }
+
+  // cross references, checked here so errors point at the line that names them
+  auto has_material = [&](const std::string& m) {
+    for (const auto& x : s.materials) if (x.name == m) return true;
+    return false;
+  };
+  auto has_component = [&](const std::string& c) {
+    for (const auto& x : s.components) if (x.name == c) return true;
+    return false;
+  };
+  for (size_t i = 0; i < s.components.size(); ++i) {
+    const auto& c = s.components[i];
+    if (!has_material(c.material))
+      throw InputError(path, c.loc.line, "components[" + std::to_string(i) + "].material", "unknown material '" + c.material + "'");
+    for (size_t j = 0; j < i; ++j)
+      if (s.components[j].name == c.name)
+        throw InputError(path, c.loc.line, "components[" + std::to_string(i) + "].name", "duplicate component name '" + c.name + "'");
+  }
+  for (size_t i = 0; i < s.constraints.size(); ++i)
+    if (!s.constraints[i].component.empty() && !has_component(s.constraints[i].component))
+      throw InputError(path, s.constraints[i].loc.line, "constraints[" + std::to_string(i) + "].component",
+                       "unknown component '" + s.constraints[i].component + "'");
+  for (size_t i = 0; i < s.overrides.size(); ++i)
+    if (!has_component(s.overrides[i].component))
+      throw InputError(path, s.overrides[i].loc.line, "overrides[" + std::to_string(i) + "].component",
+                       "unknown component '" + s.overrides[i].component + "'");
+  for (size_t i = 0; i < s.links.size(); ++i) {
+    const auto& l = s.links[i];
+    for (const std::string* n : {&l.a, &l.b})
+      if (!has_component(*n))
+        throw InputError(path, l.loc.line, "links[" + std::to_string(i) + "]", "unknown component '" + *n + "'");
+    if (l.a == l.b) throw InputError(path, l.loc.line, "links[" + std::to_string(i) + "]", "a component cannot link to itself");
+  }
+  return s;
+}
+
+ScenarioSpec parse_scenario_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "", "cannot open scenario file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw InputError(path, 0, "", "cannot read scenario file");
+  return parse_scenario_text(ss.str(), path);
+}
+
+bool RegionSpec::contains(const Vec3& x) const {
+  switch (kind) {
+    case All: return true;
+    case Box: return (x.array() >= min.array() - 1e-12).all() && (x.array() <= max.array() + 1e-12).all();
+    case Sphere: return (x - center).norm() <= radius + 1e-12;
+    case HalfSpace: return (x - point).dot(normal) >= -1e-12;
+  }
+  return false;
+}
+
+}  // namespace ps

@@ -1,0 +1,58 @@
+// Everything that changes while simulating. Owned by the physics thread; the renderer sees only
+// snapshots. make_state() sizes every buffer once so step() never allocates.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/model/model.h"
+
+namespace ps {
+
+struct RigidBodyState {
+  Vec3 com = Vec3::Zero();         // centre of mass [m]
+  Quat rot = Quat::Identity();     // body-to-world rotation
+  Vec3 lin_vel = Vec3::Zero();     // [m/s]
+  Vec3 ang_vel = Vec3::Zero();     // world frame [rad/s]
+  Vec3 force = Vec3::Zero();       // accumulated this step [N]
+  Vec3 torque = Vec3::Zero();      // accumulated this step [N m]
+};
+
+// First problem found by the numerical check; the step stops and reports it.
+struct StepFault {
+  enum Kind : uint8_t { None, NotFinite, TooFast, TooFar, VolumeSolve } kind = None;
+  int particle = -1;               // offending particle (-1 if not particle-specific)
+  double time = 0.0;               // simulation time [s]
+  double value = 0.0;              // speed [m/s] or excursion [m]
+  std::string describe(const Model& m) const;
+};
+
+struct State {
+  double time = 0.0;               // [s]
+  int64_t step = 0;                // substeps taken
+  std::vector<Vec3> x;             // [n] positions [m]
+  std::vector<Vec3> v;             // [n] velocities [m/s]
+  std::vector<Vec3> f;             // [n] force accumulator [N]
+  std::vector<Vec3> x_prev;        // [n] positions at start of the step (velocity adjust)
+  std::vector<Vec3> attractor;     // [n] last attractor P* (shape-memory stage output) [m]
+  std::vector<RigidBodyState> bodies;   // [rigid bodies]
+  std::vector<double> target_volume;    // [surfaces] current target volume [m^3]
+  std::vector<double> activation;       // [components] in [0,1]
+  std::vector<Vec3> volume_grad;        // [n] scratch: volume gradient
+  std::vector<double> last_lambda;      // [surfaces] last volume multiplier (diagnostic)
+  std::vector<uint8_t> contact;         // [n] scratch: axis mask pinned this step by a
+                                        // half-space or a tool contact (volume leaves it alone)
+  StepFault fault;
+  int64_t clamp_count = 0;         // times a safety clamp acted
+};
+
+State make_state(const Model& model);
+
+// FNV-1a hash over the raw bytes of positions, velocities and rigid poses: bit-identical
+// states hash equal (determinism tests, replay checks).
+uint64_t hash_state(const State& s);
+
+double kinetic_energy(const Model& m, const State& s);   // [J]
+double max_speed(const State& s);                        // [m/s]
+
+}  // namespace ps

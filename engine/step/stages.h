@@ -1,0 +1,37 @@
+// The stages of one physics substep (paper Algorithm 1), one file each:
+//   boundary conditions -> forces -> integrate -> constraints (local, volume) -> velocity adjust
+//   -> check. None of them allocates, logs or touches files.
+#pragma once
+#include "engine/model/model.h"
+#include "engine/state/state.h"
+
+namespace ps {
+
+// constraints.cpp: imposed displacements at time t (boundary conditions, before forces)
+void apply_imposed_displacements(const Model& m, State& s, double t);
+// forces.cpp: clears the accumulator, adds gravity and locally applied forces at time t
+void clear_and_add_external_forces(const Model& m, State& s, double t);
+// shape_memory.cpp: shape-memory force k_e (P* - P) and its redistribution (paper §3.2)
+void add_shape_memory_forces(const Model& m, State& s);
+// active.cpp: fibre contraction of active components scaled by State::activation
+void add_active_forces(const Model& m, State& s);
+// rigid.cpp: moves forces of attached elastic particles onto their rigid bodies
+void gather_rigid_forces(const Model& m, State& s);
+// integrate.cpp: symplectic Euler with implicit velocity damping v /= (1 + c dt)
+void integrate(const Model& m, State& s, double dt);
+// rigid.cpp: integrates dynamic bodies, places rigid and attached particles on their bodies
+void integrate_rigid_bodies(const Model& m, State& s, double dt);
+// constraints.cpp: fixed axes, imposed displacements, half-spaces (local constraints)
+void apply_local_constraints(const Model& m, State& s, double t);
+// volume.cpp: exact volume projection of every constrained surface (paper §3.3); false if a
+// surface has no real solution (fault recorded in s.fault)
+bool project_volumes(const Model& m, State& s);
+// integrate.cpp: v = (x - x_prev)/dt so constraint corrections become velocities
+void adjust_velocities(State& s, double dt);
+// check.cpp: NaN/Inf, speed and excursion limits; false and s.fault set on the first problem
+bool check_state(const Model& m, State& s);
+
+// volume.cpp: 6 x enclosed volume of a surface at positions x, and its exact cubic along g
+double surface_volume(const Surface& surf, const std::vector<Vec3>& x);
+
+}  // namespace ps

@@ -1,0 +1,33 @@
+// Small scenario texts shared by engine tests.
+#pragma once
+#include <string>
+
+#include "engine/scenario/compile.h"
+#include "engine/scenario/parse_yaml.h"
+
+namespace ps::test {
+
+// A volumetric elastic cube (side mm, spacing mm), optionally incompressible, bottom fixed.
+inline std::string cube_yaml(double side_mm = 40, double spacing_mm = 10, bool incompressible = false,
+                             bool fix_bottom = true, double damping = 20, const std::string& gravity = "[0, 0, -9.81]") {
+  std::string s = "name: test_cube\n"
+                  "time: {dt_ms: 1, substeps: 1, duration_s: 1}\n"
+                  "gravity_m_s2: " + gravity + "\n"
+                  "materials:\n"
+                  "  soft: {young_kpa: 10, density_kg_m3: 1000, damping_1_s: " + std::to_string(damping) +
+                  ", incompressible: " + (incompressible ? "true" : "false") + "}\n"
+                  "components:\n"
+                  "  - name: cube\n"
+                  "    material: soft\n"
+                  "    spacing_mm: " + std::to_string(spacing_mm) + "\n"
+                  "    box: {min_mm: [0, 0, 0], max_mm: [" + std::to_string(side_mm) + ", " + std::to_string(side_mm) + ", " +
+                  std::to_string(side_mm) + "]}\n";
+  if (fix_bottom) s += "constraints:\n  - fix: {component: cube, region: {box: {min_mm: [-1, -1, -1], max_mm: [1000, 1000, 0.5]}}}\n";
+  return s;
+}
+
+inline std::shared_ptr<const Model> compile_text(const std::string& yaml) {
+  return compile_scenario(parse_scenario_text(yaml, "test.yaml"));
+}
+
+}  // namespace ps::test
