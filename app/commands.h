@@ -17,5 +17,6 @@ using Runner = std::function<int()>;
 void add_simulate_command(CLI::App& app, Runner& run);
 void add_check_command(CLI::App& app, Runner& run);
 void add_validate_command(CLI::App& app, Runner& run);
+void add_make_anatomy_command(CLI::App& app, Runner& run);
 
 }  // namespace ps::app

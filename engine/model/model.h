@@ -138,6 +138,16 @@ struct Model {
   std::vector<int> triplet_count;  // [n] valid triplets m_p (statistics, check command)
   std::vector<uint8_t> shape_memory; // [n] 1 if the particle carries a shape-memory force
 
+  // named particle tags (scenario tags: and prostate_zones:, e.g. "lesion", "base", "peripheral"):
+  // bit t of particle_tags[p] is set when particle p carries tag_names[t]
+  std::vector<std::string> tag_names;   // [tags] at most 64
+  std::vector<uint64_t> particle_tags;  // [n] bit masks; empty when the scene has no tags
+  int find_tag(const std::string& t) const {
+    for (size_t i = 0; i < tag_names.size(); ++i)
+      if (tag_names[i] == t) return static_cast<int>(i);
+    return -1;
+  }
+
   std::vector<Component> components;
   std::vector<Surface> surfaces;
   std::vector<RigidBody> rigid_bodies;

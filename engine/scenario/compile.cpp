@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "engine/anatomy/scene_regions.h"
 #include "engine/model/discrete_coordinates.h"
 #include "engine/model/material.h"
 #include "engine/scenario/particle_set.h"
@@ -118,9 +119,17 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   // particles of every component, contiguous per component
   std::vector<std::vector<int>> nbrs;  // global neighbour lists, filled per component then links
   std::vector<std::vector<std::array<int, 3>>> faces_of(spec.components.size());
+  // components that exclude others (fat around organs) are filled after the others
+  std::vector<ParticleSet> sets(spec.components.size());
+  std::vector<double> excluded_volume(spec.components.size(), 0.0);  // [m^3]
+  for (size_t ci = 0; ci < spec.components.size(); ++ci)
+    if (spec.components[ci].exclude_inside.empty()) sets[ci] = build_particles(spec.components[ci], spec.file);
+  for (size_t ci = 0; ci < spec.components.size(); ++ci)
+    if (!spec.components[ci].exclude_inside.empty())
+      sets[ci] = anatomy::fill_excluding(spec, ci, sets, &excluded_volume[ci]);
   for (size_t ci = 0; ci < spec.components.size(); ++ci) {
     const ComponentSpec& cs = spec.components[ci];
-    ParticleSet set = build_particles(cs, spec.file);
+    ParticleSet set = std::move(sets[ci]);
     if (set.pos.empty())
       throw InputError(spec.file, cs.loc.line, "components." + cs.name, "component has no particles");
     Component comp;
@@ -165,10 +174,14 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
         area += 0.5 * (m.rest_pos[f[1]] - m.rest_pos[f[0]]).cross(m.rest_pos[f[2]] - m.rest_pos[f[0]]).norm();
       volume = area * cs.spacing;
     }
+    volume -= excluded_volume[ci];  // the organs inside a fat block are not fat
     if (!(volume > 0.0))
       throw CompileError("component '" + cs.name + "': surface encloses no positive volume (inverted or open)");
     const double pm = mat.density * volume / comp.particle_count;
     const double ke = mat.k_e ? *mat.k_e : shape_memory_stiffness(*mat.young, cs.spacing);
+    if (!mat.k_e && (cs.spacing < kCalibratedSpacingMin || cs.spacing > kCalibratedSpacingMax))
+      warnings.push_back("component '" + cs.name + "': spacing " + std::to_string(cs.spacing * 1e3) +
+                         " mm is outside the 4-10 mm range where the E -> k_e mapping was calibrated");
     for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p) {
       m.mass[p] = pm;
       m.k_e[p] = ke;
@@ -195,6 +208,8 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
       throw InputError(spec.file, o.loc.line, "overrides[" + std::to_string(oi) + "].region",
                        "selects no particle of component '" + o.component + "'");
   }
+
+  anatomy::apply_particle_tags(spec, m, faces_of);  // tags: and prostate_zones:
 
   // rigid components become bodies
   m.inv_mass.assign(n, 0.0);

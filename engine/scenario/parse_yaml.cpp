@@ -4,9 +4,13 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "engine/scenario/yaml_reader.h"
+#include "engine/tools/needle_spec_yaml.h"
+#include "engine/tools/filling_parse.h"
+#include "engine/tools/probe_parse.h"
 
 namespace ps {
 
@@ -39,8 +43,8 @@ void parse_ramp(const YamlReader& r, const YAML::Node& v, const std::string& key
 RegionSpec parse_region(const YamlReader& r, const YAML::Node& v, const std::string& key) {
   RegionSpec reg;
   if (v.IsScalar() && v.Scalar() == "all") return reg;
-  r.only_keys(v, key, {"box", "sphere", "half_space"});
-  if (v.size() != 1) r.fail(v, key, "a region is exactly one of box, sphere, half_space or 'all'");
+  r.only_keys(v, key, {"box", "sphere", "half_space", "ellipsoid"});
+  if (v.size() != 1) r.fail(v, key, "a region is exactly one of box, sphere, half_space, ellipsoid or 'all'");
   if (v["box"]) {
     const YAML::Node b = v["box"];
     const std::string k = key + ".box";
@@ -57,6 +61,14 @@ RegionSpec parse_region(const YamlReader& r, const YAML::Node& v, const std::str
     reg.kind = RegionSpec::Sphere;
     reg.center = r.vec3(r.require(s, k, "center_mm"), k + ".center_mm", kMm);
     reg.radius = r.positive(r.require(s, k, "radius_mm"), k + ".radius_mm") * kMm;
+  } else if (v["ellipsoid"]) {
+    const YAML::Node e = v["ellipsoid"];
+    const std::string k = key + ".ellipsoid";
+    r.only_keys(e, k, {"center_mm", "radii_mm"});
+    reg.kind = RegionSpec::Ellipsoid;
+    reg.center = r.vec3(r.require(e, k, "center_mm"), k + ".center_mm", kMm);
+    reg.radii = r.vec3(r.require(e, k, "radii_mm"), k + ".radii_mm", kMm);
+    if (!(reg.radii.minCoeff() > 0.0)) r.fail(e["radii_mm"], k + ".radii_mm", "every semi-axis must be positive");
   } else {
     const YAML::Node h = v["half_space"];
     const std::string k = key + ".half_space";
@@ -135,7 +147,7 @@ ShapeSpec parse_shape(const YamlReader& r, const YAML::Node& c, const std::strin
 ComponentSpec parse_component(const YamlReader& r, const YAML::Node& c, int index, const std::string& dir) {
   const std::string k = "components[" + std::to_string(index) + "]";
   r.only_keys(c, k, {"name", "type", "material", "spacing_mm", "fill", "box", "cylinder", "mesh", "kinematic",
-                     "fibre", "active_stress_kpa", "activation"});
+                     "fibre", "active_stress_kpa", "activation", "exclude_inside"});
   ComponentSpec cs;
   cs.loc = loc_of(r, c);
   cs.name = r.string(r.require(c, k, "name"), k + ".name");
@@ -153,6 +165,12 @@ ComponentSpec parse_component(const YamlReader& r, const YAML::Node& c, int inde
     else r.fail(c["fill"], k + ".fill", "fill must be volumetric or surface");
   }
   cs.shape = parse_shape(r, c, k, dir);
+  if (c["exclude_inside"]) {
+    const YAML::Node ex = c["exclude_inside"];
+    if (!ex.IsSequence()) r.fail(ex, k + ".exclude_inside", "expected a list of component names");
+    if (!cs.volumetric) r.fail(ex, k + ".exclude_inside", "only a volumetric component can exclude others");
+    for (size_t i = 0; i < ex.size(); ++i) cs.exclude_inside.push_back(r.string(ex[i], k + ".exclude_inside"));
+  }
   if (c["kinematic"]) {
     if (cs.kind != "rigid") r.fail(c["kinematic"], k + ".kinematic", "only rigid components are kinematic");
     cs.kinematic = r.boolean(c["kinematic"], k + ".kinematic");
@@ -235,7 +253,7 @@ ScenarioSpec parse_scenario_text(const std::string& text, const std::string& pat
   }
   if (!root.IsMap()) throw InputError(path, 1, "", "a scenario file is a YAML mapping (name:, components:, ...)");
   r.only_keys(root, "", {"name", "solver", "time", "gravity_m_s2", "rest", "materials", "components", "constraints",
-                         "overrides", "links"});
+                         "overrides", "links", "probe", "filling", "tags", "prostate_zones", "needles"});
   const std::string dir = std::filesystem::path(path).parent_path().string();
   ScenarioSpec s;
   s.file = path;
@@ -293,6 +311,29 @@ ScenarioSpec parse_scenario_text(const std::string& text, const std::string& pat
       l.distance = r.positive(r.require(n[i], k, "distance_mm"), k + ".distance_mm") * kMm;
       s.links.push_back(l);
     }
+  if (const YAML::Node n = list("tags"))
+    for (size_t i = 0; i < n.size(); ++i) {
+      const std::string k = "tags[" + std::to_string(i) + "]";
+      r.only_keys(n[i], k, {"name", "component", "region"});
+      TagSpec t;
+      t.loc = loc_of(r, n[i]);
+      t.name = r.string(r.require(n[i], k, "name"), k + ".name");
+      t.component = r.string(r.require(n[i], k, "component"), k + ".component");
+      t.region = parse_region(r, r.require(n[i], k, "region"), k + ".region");
+      s.tags.push_back(t);
+    }
+  if (const YAML::Node z = root["prostate_zones"]) {
+    r.only_keys(z, "prostate_zones", {"component", "peripheral_depth_mm"});
+    ZonesSpec zs;
+    zs.loc = loc_of(r, z);
+    zs.component = r.string(r.require(z, "prostate_zones", "component"), "prostate_zones.component");
+    if (z["peripheral_depth_mm"])
+      zs.peripheral_depth = r.positive(z["peripheral_depth_mm"], "prostate_zones.peripheral_depth_mm") * kMm;
+    s.prostate_zones = zs;
+  }
+  if (root["probe"]) parse_probe_section(r, root["probe"], s);        // engine/tools/probe_parse.cpp
+  if (root["filling"]) parse_filling_section(r, root["filling"], s);  // engine/tools/filling_parse.cpp
+  if (root["needles"]) s.needles = parse_needles_yaml(r, root["needles"]);
 
   // cross references, checked here so errors point at the line that names them
   auto has_material = [&](const std::string& m) {
@@ -319,6 +360,26 @@ ScenarioSpec parse_scenario_text(const std::string& text, const std::string& pat
     if (!has_component(s.overrides[i].component))
       throw InputError(path, s.overrides[i].loc.line, "overrides[" + std::to_string(i) + "].component",
                        "unknown component '" + s.overrides[i].component + "'");
+  for (size_t i = 0; i < s.components.size(); ++i)
+    for (const std::string& e : s.components[i].exclude_inside) {
+      const std::string k = "components[" + std::to_string(i) + "].exclude_inside";
+      if (!has_component(e)) throw InputError(path, s.components[i].loc.line, k, "unknown component '" + e + "'");
+      if (e == s.components[i].name) throw InputError(path, s.components[i].loc.line, k, "a component cannot exclude itself");
+      for (const auto& o : s.components)
+        if (o.name == e && !o.exclude_inside.empty())
+          throw InputError(path, s.components[i].loc.line, k, "'" + e + "' excludes others itself; exclusion does not chain");
+    }
+  std::set<std::string> tag_names;
+  for (size_t i = 0; i < s.tags.size(); ++i) {
+    const std::string k = "tags[" + std::to_string(i) + "]";
+    if (!has_component(s.tags[i].component))
+      throw InputError(path, s.tags[i].loc.line, k + ".component", "unknown component '" + s.tags[i].component + "'");
+    if (!tag_names.insert(s.tags[i].name).second)
+      throw InputError(path, s.tags[i].loc.line, k + ".name", "duplicate tag name '" + s.tags[i].name + "'");
+  }
+  if (s.prostate_zones && !has_component(s.prostate_zones->component))
+    throw InputError(path, s.prostate_zones->loc.line, "prostate_zones.component",
+                     "unknown component '" + s.prostate_zones->component + "'");
   for (size_t i = 0; i < s.links.size(); ++i) {
     const auto& l = s.links[i];
     for (const std::string* n : {&l.a, &l.b})
@@ -344,6 +405,7 @@ bool RegionSpec::contains(const Vec3& x) const {
     case Box: return (x.array() >= min.array() - 1e-12).all() && (x.array() <= max.array() + 1e-12).all();
     case Sphere: return (x - center).norm() <= radius + 1e-12;
     case HalfSpace: return (x - point).dot(normal) >= -1e-12;
+    case Ellipsoid: return ((x - center).array() / radii.array()).matrix().squaredNorm() <= 1.0 + 1e-12;
   }
   return false;
 }

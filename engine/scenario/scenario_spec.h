@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/tools/needle_spec.h"
 #include "engine/util/vec.h"
 
 namespace ps {
@@ -17,10 +18,11 @@ struct SourceLoc {
 };
 
 struct RegionSpec {
-  enum Kind { All, Box, Sphere, HalfSpace } kind = All;
+  enum Kind { All, Box, Sphere, HalfSpace, Ellipsoid } kind = All;
   Vec3 min = Vec3::Zero(), max = Vec3::Zero();   // Box [m]
   Vec3 center = Vec3::Zero(); double radius = 0; // Sphere [m]
   Vec3 point = Vec3::Zero(), normal = Vec3::UnitZ();  // HalfSpace: keeps (x-point).n >= 0 [m]
+  Vec3 radii = Vec3::Zero();       // Ellipsoid: axis-aligned semi-axes about center [m]
   bool contains(const Vec3& x) const;
 };
 
@@ -64,6 +66,8 @@ struct ComponentSpec {
   Vec3 fibre = Vec3::UnitZ();      // active: fibre direction
   double active_stress = 0.0;      // active: stress at activation 1 [Pa]
   double activation = 0.0;         // active: initial activation [0,1]
+  std::vector<std::string> exclude_inside;  // volumetric: no particles inside (or within 0.45
+                                            // spacing of) these components (fat around organs)
   SourceLoc loc;
 };
 
@@ -90,6 +94,80 @@ struct LinkSpec {
   SourceLoc loc;
 };
 
+// --- probe: and filling: sections (engine/tools/probe.h, engine/tools/filling.h) ---------------
+// Probe pose in the rectal frame (entry point E, axis a, anterior n, lateral a x n): pivot
+// E + offset, tip-hemisphere centre pivot + insertion * R a, R = tilt(a x n) * yaw(-n) * roll(a).
+struct ProbePose {
+  double insertion = 0.0;          // pivot to tip-hemisphere centre along the probe axis [m]
+  Vec3 offset = Vec3::Zero();      // pivot translation, perpendicular to the rectal axis [m]
+  double roll = 0.0;               // about the probe axis [rad]
+  double tilt = 0.0;               // toward anterior, about a x n through the pivot [rad]
+  double yaw = 0.0;                // toward lateral (a x n), about -n through the pivot [rad]
+};
+
+// A scripted probe move: the named fields go from their value at t0 to these at t1 (smoothstep).
+struct ProbeMoveSpec {
+  double t0 = 0.0, t1 = 0.0;       // [s]
+  std::optional<double> insertion; // [m]
+  std::optional<Vec3> offset;      // [m]
+  std::optional<double> roll, tilt, yaw;  // [rad]
+  SourceLoc loc;
+};
+
+struct ProbeSpec {
+  double radius = 0.010;           // capsule radius [m]
+  double length = 0.120;           // modelled shaft: tip-hemisphere centre to back end [m]
+  Vec3 entry = Vec3::Zero();       // pivot of tilt/yaw at the anal entry [m]
+  Vec3 axis = Vec3::UnitZ();       // rectal axis, insertion direction (unit)
+  Vec3 anterior = Vec3::UnitY();   // toward the prostate, made perpendicular to axis (unit)
+  ProbePose pose;                  // initial pose
+  std::vector<ProbeMoveSpec> moves;
+  bool imposed_mode = false;       // contact.mode: imposed (paper §5.4.1 literal) | contact
+  std::vector<std::string> contact_components;  // empty: every non-rigid component
+  std::string rectum;              // rectum component (start check, imposed-mode source)
+  std::string prostate;            // imposed mode: component receiving the displacement
+  double couple_distance = 0.0;    // imposed mode: rectum-prostate rest distance [m], 0 = auto
+  double max_speed = 0.05;         // commanded translation speed limit [m/s]
+  double max_angular_speed = 1.0471975511965976;  // commanded rotation speed limit [rad/s]
+  double guide_angle = 0.3490658503988659;        // biopsy guide angle to the probe axis [rad]
+  double guide_back = 0.015;       // guide exit point: distance behind the tip centre [m]
+  double template_distance = 0.030;  // template plane: distance behind the pivot [m]
+  double template_pitch = 0.005;   // hole spacing [m]
+  int template_cols = 13, template_rows = 13;
+  double template_first_row = 0.010; // row 0 above the probe axis (anterior) [m]
+  SourceLoc loc, pose_loc;
+};
+
+// One filling segment of an organ's target volume (linear in time over [t0, t1]).
+struct FillSpec {
+  std::string component;
+  enum Kind { Rate, Target, Factor } kind = Rate;
+  double value = 0.0;              // Rate [m^3/s], Target [m^3], Factor [-] of the rest volume
+  double t0 = 0.0, t1 = 0.0;       // [s]
+  SourceLoc loc;
+};
+
+struct FillingSpec {
+  double max_rate = 5e-6;          // physiological limit on |dV/dt| [m^3/s] (5 ml/s)
+  std::vector<FillSpec> schedule;
+  SourceLoc loc;
+};
+
+// Named particle tag (lesion, target, ...): the particles of `component` inside `region`.
+struct TagSpec {
+  std::string name;
+  std::string component;
+  RegionSpec region;
+  SourceLoc loc;
+};
+
+// Prostate zone tags (engine/anatomy/zones.h) on the particles of one component.
+struct ZonesSpec {
+  std::string component;
+  double peripheral_depth = 8e-3;  // shell thickness of the peripheral / anterior zones [m]
+  SourceLoc loc;
+};
+
 struct ScenarioSpec {
   std::string file;                // source path
   std::string name;
@@ -105,6 +183,11 @@ struct ScenarioSpec {
   std::vector<ConstraintSpec> constraints;
   std::vector<OverrideSpec> overrides;
   std::vector<LinkSpec> links;
+  std::vector<TagSpec> tags;                 // tags: named particle regions
+  std::optional<ZonesSpec> prostate_zones;   // prostate_zones: zone tags on the prostate
+  std::optional<ProbeSpec> probe;  // probe: section (engine/tools/probe.h)
+  std::optional<FillingSpec> filling;  // filling: section (engine/tools/filling.h)
+  NeedleSetSpec needles;           // needles: section (engine/tools/needle_spec.h)
 };
 
 }  // namespace ps

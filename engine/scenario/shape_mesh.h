@@ -11,3 +11,8 @@ namespace ps {
 ParticleSet particles_from_mesh(const ComponentSpec& component, const std::string& scenario_file);
 
 }  // namespace ps
+
+namespace ps {
+// The imported, repaired, remeshed closed surface of a mesh-shaped component [m].
+TriMesh load_component_surface(const ComponentSpec& component, const std::string& scenario_file, double spacing);
+}  // namespace ps

@@ -27,6 +27,10 @@ struct StepFault {
   std::string describe(const Model& m) const;
 };
 
+// Values the shape-memory stage keeps per beta triplet between its attractor and gradient passes
+// (State::triplet_scratch): e_j, e_k, n (3 each), b/|n|, 1/|n|^2.
+inline constexpr int kTripletScratchFields = 11;
+
 struct State {
   double time = 0.0;               // [s]
   int64_t step = 0;                // substeps taken
@@ -42,6 +46,10 @@ struct State {
   std::vector<double> last_lambda;      // [surfaces] last volume multiplier (diagnostic)
   std::vector<uint8_t> contact;         // [n] scratch: axis mask pinned this step by a
                                         // half-space or a tool contact (volume leaves it alone)
+  std::vector<double> triplet_scratch;  // scratch of the shape-memory stage: per beta triplet of
+                                        // one particle its edges, normal, b/|n| and 1/|n|^2
+                                        // (kTripletScratchFields x capacity, capacity = the most
+                                        // triplets of any particle rounded up to even)
   StepFault fault;
   int64_t clamp_count = 0;         // times a safety clamp acted
 };

@@ -79,7 +79,10 @@ TEST_P(ShapeMemory, DeformationMakesARestoringForce) {
 
 INSTANTIATE_TEST_SUITE_P(Shapes, ShapeMemory,
                          ::testing::Values(test::cube_yaml(40, 10, false, false), test::cube_yaml(30, 10, true, false),
-                                           cylinder_yaml()));
+                                           cylinder_yaml()),
+                         [](const ::testing::TestParamInfo<std::string>& i) {
+                           return std::string(i.index == 0 ? "Cube" : i.index == 1 ? "IncompressibleCube" : "TiltedCylinder");
+                         });
 
 TEST(DiscreteCoordinates, CollinearNeighbourhoodRejectedNamingTheParticle) {
   Model m;

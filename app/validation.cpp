@@ -1,0 +1,21 @@
+#include "app/validation.h"
+
+#include <cmath>
+
+namespace ps::app {
+
+bool ValidationRow::pass() const {
+  if (std::isnan(reference)) return std::isfinite(value);
+  return std::isfinite(value) && std::abs(value - reference) <= tolerance;
+}
+
+const std::vector<ValidationCase>& validation_cases() {
+  static const std::vector<ValidationCase> cases = [] {
+    std::vector<ValidationCase> all;
+    for (auto&& c : tissue_validation_cases()) all.push_back(std::move(c));
+    return all;
+  }();
+  return cases;
+}
+
+}  // namespace ps::app

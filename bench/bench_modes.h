@@ -1,0 +1,27 @@
+// Plain (untimed) modes of prostatesim_bench and helpers shared by the benchmark files.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "engine/step/simulation.h"
+
+namespace ps::bench {
+
+int print_info();                                   // modes.cpp
+int run_steps(const std::string& scene, int steps); // modes.cpp
+int verify_shape_memory();                          // modes.cpp
+int stable_dt_study(int steps);                     // stable_dt.cpp
+
+// The shape-memory stage exactly as it was before the performance work (reference_shape_memory.cpp):
+// kept so one binary measures the speed-up and checks the optimised stage against it.
+void reference_add_shape_memory_forces(const Model& m, State& s);
+
+// Wall time spent in each pipeline stage, summed over timed_step() calls [ns].
+struct StageTimes {
+  int64_t ns[16] = {};
+};
+// Simulation::step() for a scene without tools, stage by stage with a clock read between
+// stages (~20 ns each). Returns false on a fault, like step().
+bool timed_step(Simulation& sim, double dt, StageTimes& times);
+
+}  // namespace ps::bench

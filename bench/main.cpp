@@ -1,0 +1,30 @@
+// prostatesim_bench: Google Benchmark runner plus a few plain modes that need no timer.
+//   prostatesim_bench [--benchmark_...]        the benchmarks (step_bench.cpp, stage_bench.cpp)
+//   prostatesim_bench --info                   particles, neighbours, triplets, substeps per scene
+//   prostatesim_bench --steps SCENE N          N substeps of SCENE after 20 warm-up substeps; under
+//                                              valgrind --tool=callgrind --collect-atstart=no
+//                                              only those N substeps are counted
+//   prostatesim_bench --verify                 optimised shape memory vs the reference copy
+//   prostatesim_bench --stable-dt [N]          largest stable substep vs the estimate (N substeps)
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "bench/bench_modes.h"
+
+int main(int argc, char** argv) {
+  if (argc >= 2 && std::strcmp(argv[1], "--info") == 0) return ps::bench::print_info();
+  if (argc >= 2 && std::strcmp(argv[1], "--verify") == 0) return ps::bench::verify_shape_memory();
+  if (argc >= 4 && std::strcmp(argv[1], "--steps") == 0)
+    return ps::bench::run_steps(argv[2], std::atoi(argv[3]));
+  if (argc >= 2 && std::strcmp(argv[1], "--stable-dt") == 0)
+    return ps::bench::stable_dt_study(argc >= 3 ? std::atoi(argv[2]) : 20000);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,140 @@
+// Untimed modes of prostatesim_bench (see main.cpp) and the stage-by-stage step.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "bench/bench_modes.h"
+#include "bench/scenes.h"
+#include "engine/step/stages.h"
+
+#if __has_include(<valgrind/callgrind.h>)
+#include <valgrind/callgrind.h>
+#define PS_CALLGRIND_TOGGLE() CALLGRIND_TOGGLE_COLLECT
+#else
+#define PS_CALLGRIND_TOGGLE() ((void)0)
+#endif
+
+namespace ps::bench {
+
+namespace {
+const char* const kScenes[] = {"cube11", "cube11i", "cube22", "cube22i", "cyl", "cyli"};
+
+int64_t now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+}  // namespace
+
+bool timed_step(Simulation& sim, double dt, StageTimes& times) {
+  const Model& m = sim.model();
+  State& s = sim.state();
+  if (s.fault.kind != StepFault::None) return false;
+  const double t_end = s.time + dt;
+  int64_t t0 = now_ns();
+  for (Stage st : sim.pipeline()) {
+    bool ok = true;
+    switch (st) {
+      case Stage::ImposedDisplacement: apply_imposed_displacements(m, s, s.time); break;
+      case Stage::ExternalForces: clear_and_add_external_forces(m, s, s.time); break;
+      case Stage::ShapeMemory: add_shape_memory_forces(m, s); break;
+      case Stage::ActiveFibres: add_active_forces(m, s); break;
+      case Stage::RigidForces: gather_rigid_forces(m, s); break;
+      case Stage::Integrate: integrate(m, s, dt); break;
+      case Stage::RigidIntegrate: integrate_rigid_bodies(m, s, dt); break;
+      case Stage::LocalConstraints: apply_local_constraints(m, s, t_end); break;
+      case Stage::Volume: ok = project_volumes(m, s); break;
+      case Stage::AdjustVelocity: adjust_velocities(s, dt); break;
+      case Stage::Check:
+        s.time = t_end;
+        ++s.step;
+        ok = check_state(m, s);
+        break;
+      default: return false;  // tool stages: timed_step is for scenes without tools
+    }
+    const int64_t t1 = now_ns();
+    times.ns[static_cast<int>(st)] += t1 - t0;
+    t0 = t1;
+    if (!ok) return false;
+  }
+  return true;
+}
+
+int print_info() {
+  std::printf("%-8s %9s %9s %9s %12s %9s %9s %12s %9s\n", "scene", "particles", "surface", "nbrs/p", "beta/p",
+              "faces", "substeps", "substep_s", "est_dt_s");
+  for (const char* name : kScenes) {
+    auto m = scene_by_name(name);
+    int surf = 0;
+    for (uint8_t o : m->on_surface) surf += o;
+    const int n = m->particle_count();
+    int faces = 0;
+    for (const Surface& s : m->surfaces) faces += static_cast<int>(s.faces.size());
+    std::printf("%-8s %9d %9d %9.2f %12.2f %9d %9d %12.4g %9.4g\n", name, n, surf,
+                static_cast<double>(m->nbr.size()) / n, static_cast<double>(m->beta.size()) / n, faces, m->substeps,
+                m->dt / m->substeps, m->stable_dt_estimate);
+  }
+  return 0;
+}
+
+int run_steps(const std::string& scene, int steps) {
+  auto m = scene_by_name(scene);
+  if (!m) { std::fprintf(stderr, "unknown scene '%s'\n", scene.c_str()); return 2; }
+  Simulation sim(m);
+  const double h = m->dt / m->substeps;
+  for (int i = 0; i < 20; ++i) sim.step(h);
+  // under valgrind --tool=callgrind --collect-atstart=no only these steps are counted
+  PS_CALLGRIND_TOGGLE();
+  bool ok = true;
+  for (int i = 0; i < steps && ok; ++i) ok = sim.step(h);
+  PS_CALLGRIND_TOGGLE();
+  if (!ok) { std::fprintf(stderr, "%s\n", sim.state().fault.describe(*m).c_str()); return 1; }
+  std::printf("%s: %d substeps of %.4g s, hash %016llx\n", scene.c_str(), steps, h,
+              static_cast<unsigned long long>(hash_state(sim.state())));
+  return 0;
+}
+
+int verify_shape_memory() {
+  int bad = 0;
+  for (const char* name : kScenes) {
+    auto m = scene_by_name(name);
+    Simulation sim(m);
+    const double h = m->dt / m->substeps;
+    for (int i = 0; i < 300; ++i) sim.step(h);
+    // a settled state and a randomly perturbed one (large rotations of the triplet normals)
+    for (int variant = 0; variant < 2; ++variant) {
+      State a = sim.state();
+      if (variant == 1) {
+        std::mt19937 rng(7);
+        std::normal_distribution<double> N(0.0, 0.002);
+        for (Vec3& x : a.x) x += Vec3(N(rng), N(rng), N(rng));
+      }
+      for (Vec3& f : a.f) f.setZero();
+      State b = a;
+      add_shape_memory_forces(*m, a);
+      reference_add_shape_memory_forces(*m, b);
+      double df = 0, fmax = 0, dp = 0, pmax = 0;
+      bool identical = true;
+      for (int p = 0; p < m->particle_count(); ++p) {
+        df = std::max(df, (a.f[p] - b.f[p]).cwiseAbs().maxCoeff());
+        fmax = std::max(fmax, b.f[p].cwiseAbs().maxCoeff());
+        dp = std::max(dp, (a.attractor[p] - b.attractor[p]).cwiseAbs().maxCoeff());
+        pmax = std::max(pmax, b.attractor[p].cwiseAbs().maxCoeff());
+        identical &= a.f[p] == b.f[p] && a.attractor[p] == b.attractor[p];
+      }
+      // force scale: k_e h, the shape-memory force of a 100% strain (the summed force of a settled
+      // state is much smaller than its terms, so max|f| would be no yardstick for round-off)
+      double ke = 0;
+      for (double k : m->k_e) ke = std::max(ke, k);
+      const double fscale = ke * m->components[0].spacing;
+      const bool ok = df <= 1e-13 * fscale && dp <= 1e-14 * pmax;
+      bad += !ok;
+      std::printf("%-8s %-9s max|df| = %.3g N (%.2g of k_e h, %.2g of max|f|), max|dP*| = %.3g m, bit-identical %s: %s\n",
+                  name, variant ? "perturbed" : "settled", df, df / fscale, fmax > 0 ? df / fmax : 0.0, dp,
+                  identical ? "yes" : "no", ok ? "ok" : "MISMATCH");
+    }
+  }
+  return bad ? 1 : 0;
+}
+
+}  // namespace ps::bench

@@ -1,0 +1,56 @@
+// One physics substep, Simulation::step(), single thread. items_per_second counts particles, so
+// 1/items_per_second is the time per particle-iteration; ns_per_particle shows it directly.
+// BM_StepStages runs the same pipeline stage by stage (bench/modes.cpp timed_step) and reports the
+// mean wall time of each stage per step in ns (clock reads add ~20 ns per stage).
+#include <benchmark/benchmark.h>
+
+#include "bench/bench_common.h"
+#include "bench/bench_modes.h"
+
+namespace ps::bench {
+namespace {
+
+void set_particle_counters(benchmark::State& state, int n) {
+  state.SetItemsProcessed(state.iterations() * n);
+  state.counters["particles"] = n;
+  // seconds per particle-iteration (printed with an SI prefix: "40n" = 40 ns)
+  state.counters["per_particle"] = benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate |
+                                                             benchmark::Counter::kInvert);
+}
+
+void BM_Step(benchmark::State& state, const char* scene) {
+  auto sim = warmed(scene);
+  const double h = substep(sim->model());
+  for (auto _ : state) {
+    if (!sim->step(h)) { state.SkipWithError("step faulted"); break; }
+  }
+  set_particle_counters(state, sim->model().particle_count());
+}
+
+void BM_StepStages(benchmark::State& state, const char* scene) {
+  auto sim = warmed(scene);
+  const double h = substep(sim->model());
+  StageTimes times;
+  for (auto _ : state) {
+    if (!timed_step(*sim, h, times)) { state.SkipWithError("step faulted"); break; }
+  }
+  set_particle_counters(state, sim->model().particle_count());
+  for (Stage st : sim->pipeline())
+    state.counters[std::string(stage_name(st)) + "_ns"] =
+        benchmark::Counter(static_cast<double>(times.ns[static_cast<int>(st)]), benchmark::Counter::kAvgIterations);
+}
+
+BENCHMARK_CAPTURE(BM_Step, cube11, "cube11")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Step, cube11i, "cube11i")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Step, cube22, "cube22")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Step, cube22i, "cube22i")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Step, cyl, "cyl")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Step, cyli, "cyli")->Unit(benchmark::kMicrosecond);
+
+BENCHMARK_CAPTURE(BM_StepStages, cube11, "cube11")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_StepStages, cube11i, "cube11i")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_StepStages, cube22i, "cube22i")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_StepStages, cyli, "cyli")->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace ps::bench

@@ -1,0 +1,140 @@
+#include "engine/anatomy/pelvis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "engine/anatomy/shapes.h"
+#include "engine/mesh/mesh_query.h"
+
+namespace ps::anatomy {
+
+namespace {
+
+double max_z(const TriMesh& m) {
+  double z = -1e300;
+  for (const Vec3& v : m.vertices) z = std::max(z, v.z());
+  return z;
+}
+double min_z(const TriMesh& m) {
+  double z = 1e300;
+  for (const Vec3& v : m.vertices) z = std::min(z, v.z());
+  return z;
+}
+
+// Bladder: ellipsoid with a flatter lower half (the base resting on the prostate), scaled about
+// its lowest point (the neck) so that the polyhedron holds exactly the requested volume.
+TriMesh make_bladder(const BladderParams& b, const Vec3& neck) {
+  const double a = b.half_width, d = b.half_depth, lo = b.half_height_below;
+  // half-ellipsoids: V = 2/3 pi a d (c_up + c_down)
+  const double hi = 3.0 * b.volume / (2.0 * std::numbers::pi * a * d) - lo;
+  TriMesh m = map_sphere(icosphere(b.sphere_levels), [&](const Vec3& u) {
+    return Vec3(a * u.x(), d * u.y(), (u.z() >= 0.0 ? hi : lo) * u.z());
+  });
+  const double zlow = min_z(m);
+  const Vec3 bottom(0.0, 0.0, zlow);
+  const double s = std::cbrt(b.volume / signed_volume(m));
+  for (Vec3& v : m.vertices) v = neck + s * (v - bottom);
+  return m;
+}
+
+// Largest y of a z-parallel axis at (0, y) whose tube of radius r keeps `gap` from every vertex
+// of `m` below z_max (the rectum placed behind the prostate).
+double tube_axis_y_behind(const TriMesh& m, double r, double gap, double z_max) {
+  double y = 1e300;
+  const double rr = r + gap;
+  for (const Vec3& v : m.vertices) {
+    if (v.z() > z_max || std::abs(v.x()) >= rr) continue;
+    y = std::min(y, v.y() - std::sqrt(rr * rr - v.x() * v.x()));
+  }
+  return y;
+}
+
+}  // namespace
+
+Vec3 prostate_surface_point(const ProstateParams& p, const Vec3& u) {
+  const double a = p.half_width * (1.0 + p.taper * u.z());
+  const double b = (u.y() >= 0.0 ? p.half_depth_anterior : p.half_depth_posterior) * (1.0 + 0.5 * p.taper * u.z());
+  const double c = u.z() >= 0.0 ? p.half_length_base : p.half_length_apex;
+  Vec3 x(a * u.x(), b * u.y(), c * u.z());
+  if (u.y() < 0.0) {
+    // median sulcus: the posterior surface pushed in along the midline
+    const double w = x.x() / p.sulcus_width;
+    x.y() += p.sulcus_depth * u.y() * u.y() * std::exp(-w * w);
+  }
+  return x;
+}
+
+Anatomy generate_anatomy(const AnatomyParams& P) {
+  Anatomy A;
+  A.perineum_z = P.fat_min.z();
+
+  // prostate, centred at the origin
+  A.prostate = map_sphere(icosphere(P.prostate.sphere_levels),
+                          [&](const Vec3& u) { return prostate_surface_point(P.prostate, u); });
+  const double base_z = max_z(A.prostate), apex_z = min_z(A.prostate);
+
+  // bladder: neck just above the prostate base, slightly anterior
+  const Vec3 neck(0.0, P.bladder.neck_offset_y, base_z + P.bladder.gap_to_prostate);
+  A.bladder = make_bladder(P.bladder, neck);
+
+  // rectum: straight behind the prostate, then curving posteriorly along the sacrum
+  const RectumParams& R = P.rectum;
+  const double axis_y = tube_axis_y_behind(A.prostate, R.radius, R.gap_to_prostate, R.straight_top_z);
+  const double z0 = A.perineum_z + R.bottom_above_perineum + R.radius;
+  std::vector<Vec3> axis = resample_polyline({Vec3(0, axis_y, z0), Vec3(0, axis_y, R.straight_top_z)}, R.step);
+  const double th_end = R.bend_angle_deg * std::numbers::pi / 180.0;
+  const int n_arc = std::max(1, static_cast<int>(std::lround(R.bend_radius * th_end / R.step)));
+  for (int k = 1; k <= n_arc; ++k) {
+    const double th = th_end * k / n_arc;
+    axis.emplace_back(0.0, axis_y - R.bend_radius * (1.0 - std::cos(th)), R.straight_top_z + R.bend_radius * std::sin(th));
+  }
+  A.rectum_axis = axis;
+  A.rectum = swept_tube(axis, R.radius, R.ring, std::max(2, static_cast<int>(std::lround(0.5 * std::numbers::pi * R.radius / R.step))));
+
+  // pubic arch
+  const PubicArchParams& B = P.pubic_arch;
+  std::vector<Vec3> arch;
+  const int n_fine = 400;
+  for (int k = 0; k <= n_fine; ++k) {
+    const double s = -1.0 + 2.0 * k / n_fine;
+    arch.emplace_back(B.half_span * s, B.y_top - B.drop_y * s * s, B.z_top - B.drop_z * s * s);
+  }
+  A.pubic_arch = swept_tube(resample_polyline(arch, B.step), B.radius, B.ring,
+                            std::max(2, static_cast<int>(std::lround(0.5 * std::numbers::pi * B.radius / B.step))));
+
+  // fat block
+  A.fat = grid_box(P.fat_min, P.fat_max, P.fat_edge);
+
+  // prostatic urethra: bladder neck -> verumontanum (mid-gland, bent ~35 deg anteriorly) -> apex,
+  // the part inside the prostate
+  const ProstateParams& Q = P.prostate;
+  const std::vector<Vec3> guide = {Vec3(0, 0.35 * Q.half_depth_anterior, base_z + 1e-3),
+                                   Vec3(0, -0.1 * Q.half_depth_posterior, -1.0e-3),
+                                   Vec3(0, 0.25 * Q.half_depth_anterior, apex_z - 1e-3)};
+  const MeshQuery prostate_q(A.prostate);
+  for (const Vec3& p : resample_polyline(guide, P.urethra_step))
+    if (prostate_q.inside(p)) A.urethra.push_back(p);
+
+  // landmarks
+  const Vec3 arch_top(0.0, B.y_top, B.z_top);
+  A.landmarks = {
+      {"prostate_centre", Vec3::Zero()},
+      {"prostate_base", Vec3(0, 0, base_z)},
+      {"prostate_apex", Vec3(0, 0, apex_z)},
+      {"bladder_neck", neck},
+      {"verumontanum", guide[1]},
+      {"urethra_base_end", A.urethra.front()},
+      {"urethra_apex_end", A.urethra.back()},
+      {"rectum_axis_bottom", axis.front()},
+      {"rectum_axis_at_prostate", Vec3(0, axis_y, 0)},
+      {"rectum_axis_top", axis.back()},
+      {"pubic_arch_top", arch_top},
+      {"perineum_centre", Vec3(0, 0, A.perineum_z)},
+      {"fat_min", P.fat_min},
+      {"fat_max", P.fat_max},
+  };
+  return A;
+}
+
+}  // namespace ps::anatomy

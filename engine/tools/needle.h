@@ -1,0 +1,179 @@
+// Rigid needle insertion (paper §4.2, Algorithm 2) as an engine Tool: every needle of a scenario
+// (one brachytherapy template holds 20+) in one tool, one event ring.
+//
+// Model. A needle is a line of nodes (spacing s) from the tip back to the hub, moved as one rigid
+// body: its tip T (velocity V) follows a commanded pose (script or interactive command) through
+// a spring-damper coupling, integrated implicitly, and the tissue reaction is added explicitly:
+//   m dV/dt = F_coupling + F_tissue          (computeNeedleMovement)
+// F_tissue is the force feedback read-out. Its direction d is commanded (kinematic).
+// Forces between needle and tissue are applied directly on particles; no collision, no remesh.
+//
+// Zones of interest, per needle (radii default to 1.0 x the largest tissue spacing near the
+// planned path so that a zone inside tissue is never empty between lattice planes):
+//  * cutting zone: particles within cutting_radius of the tip and not behind the tip plane;
+//  * puncture zone (before a component's surface is breached): the faces of its surface around
+//    the tracked surface particles, tested against the needle axis;
+//  * friction zone of node j: particles behind the tip plane within friction_radius of the node
+//    (at most kZoneCapacity nearest).
+// All live in a tracked tube around the shaft. After the first contact the tube is rebuilt each
+// substep by walking the CSR neighbours of the particles already in it (a flood fill limited to
+// the tube), so its cost depends on the inserted length, not on the scene; new components not
+// linked by neighbours are found through a precomputed list of particles near the planned line,
+// sorted along it, of which only the slice around the tip is examined (`stats()` counts).
+//
+// Forces (tissue side; the opposite acts on the needle):
+//  * puncture (pre-breach contact): a membrane is a surface, not a set of points, so the tip
+//    presses the entry face (outward normal against d) that the needle axis crosses behind the
+//    tip: P = press_stiffness * (depth of the tip beyond the crossing), along d, shared by the
+//    face's three particles with the crossing's barycentric weights. The needle cannot slip
+//    between particles, and the surface deflects before puncture. The surface is breached when
+//    P reaches the weighted average of the puncture weights (`puncture_n`, eq. 5 with the
+//    barycentric weights): event, and the component counts as entered, so its particles are cut
+//    and rub from then on. Before that, an intact membrane's particles take no cutting or
+//    friction (the needle is outside it).
+//  * cutting (eq. 5): C = sum k_c^i/d_i / sum 1/d_i over the cutting zone of entered components,
+//    particle i receives k_c^i (1/d_i) / sum 1/d_j along d. Applied only while the needle moves
+//    forward (ramped in over cut_velocity): no cutting while retracting or at rest. When the tip
+//    sits between particle layers and the cutting zone is momentarily empty, the tip node's
+//    friction-zone particles take the cutting force, so the force does not flicker with the
+//    lattice. Distances below the needle radius count as the needle radius.
+//  * friction (eq. 6) with stick/slip through virtual tissue particles: node j carries an anchor
+//    (AffineAnchor, discrete deformation coordinates of the node w.r.t. its zone particles); the
+//    virtual elastic force F_v = stick_stiffness (P* - X_j). Its axial part is the friction: while
+//    |F_v . d| < static threshold (static_ratio * F) the node sticks and F_v couples needle and
+//    tissue (redistributed to the anchor particles, paper §3.2); beyond it the node slips and the
+//    anchor slides along the shaft so the axial force stays at the kinetic value F (eq. 6 times
+//    s / 1 mm: k_f is read as friction per millimetre of shaft, so the total does not depend on
+//    the node spacing). The lateral part of F_v is kept in both states: it is the rigid shaft's
+//    normal contact that keeps tissue from flowing through it (a deliberate addition to the
+//    paper, whose slide state applies the axial friction only). Slip returns to stick when the
+//    axial spring force falls below F (motion stops or reverses).
+// Safety: the coupling force is clamped at max_force and the speed at max_speed (event, and
+// State::clamp_count); every tissue force is bounded by a threshold (k_c, puncture, friction), so
+// an absurd command cannot blow the tissue up.
+// Bone: rigid components are never cut; the tip is stopped on their surface (FCL, see
+// bone_contact.h) with an event saying where.
+// Nothing in the hooks allocates, logs or touches files; all buffers are sized at construction.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/step/simulation.h"
+#include "engine/tools/needle_anchor.h"
+#include "engine/tools/needle_events.h"
+#include "engine/tools/needle_spec.h"
+
+namespace ps {
+
+class BoneContact;
+struct MembraneFaces;
+
+inline constexpr int kZoneCapacity = 12;     // particles kept per friction zone (nearest)
+inline constexpr int kCutCapacity = 32;      // particles in the cutting zone
+
+enum class NeedlePhase : uint8_t { Outside, Pressing, Inserted, Blocked };
+
+// Read-out of one needle (force feedback and what a UI shows). Forces are on the needle [N].
+struct NeedleReadout {
+  Vec3 tip = Vec3::Zero();              // [m]
+  Vec3 direction = -Vec3::UnitZ();
+  Vec3 velocity = Vec3::Zero();         // [m/s]
+  Vec3 command_tip = Vec3::Zero();      // [m]
+  double plan_depth = 0.0;              // tip depth along the planned line from the start [m]
+  double depth = 0.0;                   // insertion depth since first contact [m] (0 before)
+  bool contacted = false;
+  Vec3 tissue_force = Vec3::Zero();     // tissue reaction on the needle, last substep [N]
+  Vec3 coupling_force = Vec3::Zero();   // coupling force on the needle, last substep [N]
+  double axial_force = 0.0;             // -tissue_force . d: resistance to insertion [N]
+  double axial_force_tick = 0.0;        // same, averaged over the last complete tick [N]
+  double press_force = 0.0;             // puncture contact part [N]
+  double cutting_force = 0.0;           // cutting part [N]
+  double friction_force = 0.0;          // axial friction part (sum over nodes) [N]
+  int engaged_nodes = 0;                // nodes whose friction zone holds tissue
+  int stuck_nodes = 0;                  // of which sticking
+  NeedlePhase phase = NeedlePhase::Outside;
+};
+
+// Zone bookkeeping cost of the last substep, per needle (scene-size independence tests).
+struct NeedleZoneStats {
+  int tracked = 0;                      // particles in the tube
+  int visited = 0;                      // particles whose position was tested this substep
+  int plan_checked = 0;                 // of which from the planned-line slice
+};
+
+struct SeedReport {
+  int needle = -1, index = -1;
+  bool deposited = false;
+  bool embedded = false;                // held by tissue particles (false: deposited in air)
+  double time = 0.0;                    // deposit time [s]
+  Vec3 planned = Vec3::Zero();          // start + depth * direction [m]
+  Vec3 deposited_at = Vec3::Zero();     // [m]
+  Vec3 current = Vec3::Zero();          // carried by the tissue [m]
+  double error = 0.0;                   // |current - planned| [m]
+};
+
+struct CoreReport {
+  int needle = -1;
+  bool taken = false;
+  double time = 0.0;                    // [s]
+  std::vector<int> particles;           // in the notch
+  std::vector<std::pair<std::string, int>> per_component;  // component -> particle count
+  int tumour_particles = 0;
+  double tumour_length = 0.0;           // length of the core occupied by tumour [m]
+  double notch_length = 0.0;            // [m]
+};
+
+class NeedleTool : public Tool {
+ public:
+  // Validates the needles against the model (InputError naming the needle field): path that
+  // never comes near the scene, unknown components in puncture_n / tumour_components.
+  NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& spec);
+  ~NeedleTool() override;
+
+  const char* name() const override { return "needles"; }
+  void boundary_conditions(const Model& m, State& s, double dt) override;
+  void forces(const Model& m, State& s, double dt) override;
+  void after_step(const Model& m, State& s, double dt) override;
+
+  int count() const { return static_cast<int>(needles_.size()); }
+  int find(const std::string& name) const;
+  const NeedleSpec& spec(int i) const;
+  const NeedleReadout& readout(int i) const;
+  const NeedleZoneStats& stats(int i) const;
+  // Interactive command (between ticks): from now on the needle follows this tip pose and
+  // velocity instead of its script. Direction must be non-zero (normalised here).
+  void command(int i, const Vec3& tip, const Vec3& direction, const Vec3& velocity = Vec3::Zero());
+  void release_command(int i);  // back to the script
+  // Fire the biopsy gun now (interactive); the script's gun.fire_s does it automatically.
+  void fire(int i, double now);
+
+  const NeedleEventRing& events() const { return events_; }
+  std::vector<SeedReport> seeds() const;
+  CoreReport core(int i) const;
+  // Nodes of needle i at the current pose [m] (rendering, tests).
+  std::vector<Vec3> nodes(int i) const;
+  // Particles in the friction zone of node j of needle i (tests, visualisation).
+  std::vector<int> zone_particles(int i, int node) const;
+  std::vector<int> cutting_particles(int i) const;
+  bool node_stuck(int i, int node) const;
+  bool node_anchor_rotational(int i, int node) const;
+  bool component_entered(int i, int component) const;
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+  struct Needle;  // per-needle runtime state (needle.cpp)
+
+ private:
+  std::shared_ptr<const Model> model_;
+  std::vector<std::unique_ptr<Needle>> needles_;
+  std::vector<double> puncture_kc_;     // [components] surface puncture weight [N], 0: none
+  std::unique_ptr<MembraneFaces> membranes_;
+  NeedleEventRing events_;
+  std::unique_ptr<BoneContact> bone_;
+  std::vector<std::string> warnings_;
+};
+
+// Builds the tool for the `needles:` section of a scenario (nullptr when it has no needle).
+std::unique_ptr<NeedleTool> make_needle_tool(std::shared_ptr<const Model> model, const NeedleSetSpec& spec);
+
+}  // namespace ps

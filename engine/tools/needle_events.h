@@ -1,0 +1,64 @@
+// Needle events (contact, puncture, stick<->slip, seed, core, bone hit, force clamp) stamped with
+// the simulation time, kept in a ring buffer sized once: pushing inside a step never allocates;
+// when full the oldest event is overwritten and counted as dropped.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "engine/util/vec.h"
+
+namespace ps {
+
+enum class NeedleEventKind : uint8_t {
+  Contact,      // tip first touches tissue of a component
+  Puncture,     // a component's surface (capsule, wall, skin) breached: depth, force
+  Stick,        // a node's virtual tissue particle went from slip to stick (node)
+  Slip,         // ... from stick to slip (node)
+  Seed,         // seed deposited (value = seed index; component = -1 when no tissue held it)
+  Core,         // biopsy core taken (value = particles in the notch, force = tumour length [m])
+  BoneHit,      // tip stopped by rigid bone (component, position)
+  ForceClamped  // coupling force or speed exceeded the needle's limit and was clamped
+};
+const char* needle_event_name(NeedleEventKind k);
+
+struct NeedleEvent {
+  NeedleEventKind kind = NeedleEventKind::Contact;
+  int needle = -1;
+  double time = 0.0;               // simulation time [s]
+  Vec3 position = Vec3::Zero();    // tip (or seed / contact point) [m]
+  double depth = 0.0;              // insertion depth since first contact [m]
+  double force = 0.0;              // axial tissue force on the needle at the event [N]
+  int component = -1;              // Model component, -1 if none
+  int node = -1;                   // needle node for stick/slip
+  double value = 0.0;              // event-specific (seed index, particle count, requested force)
+};
+
+class NeedleEventRing {
+ public:
+  explicit NeedleEventRing(int capacity = 4096) : buf_(static_cast<size_t>(capacity)) {}
+  void push(const NeedleEvent& e) {  // no allocation
+    buf_[head_] = e;
+    head_ = (head_ + 1) % buf_.size();
+    if (size_ < buf_.size()) ++size_;
+    else ++dropped_;
+    ++total_;
+  }
+  // Chronological copy (outside the step).
+  std::vector<NeedleEvent> snapshot() const {
+    std::vector<NeedleEvent> out;
+    out.reserve(size_);
+    const size_t first = (head_ + buf_.size() - size_) % buf_.size();
+    for (size_t i = 0; i < size_; ++i) out.push_back(buf_[(first + i) % buf_.size()]);
+    return out;
+  }
+  size_t size() const { return size_; }
+  int64_t dropped() const { return dropped_; }
+  int64_t total() const { return total_; }
+
+ private:
+  std::vector<NeedleEvent> buf_;
+  size_t head_ = 0, size_ = 0;
+  int64_t dropped_ = 0, total_ = 0;
+};
+
+}  // namespace ps

@@ -1,0 +1,158 @@
+// Needle-tissue forces of one substep (paper §4.2.1, Algorithm 2: computeTissueForces,
+// computeVirtualElasticForce, stick/slide, redistribute). Forces go straight onto the particles
+// (State::f, before integration); the opposite of each is summed on the needle.
+#include <algorithm>
+
+#include "engine/tools/needle_internal.h"
+
+namespace ps {
+
+namespace {
+
+// Inverse distance weight of eq. 5/6; distances inside the needle's radius count as the radius
+// (the needle has a size; and d = 0 would otherwise give an infinite weight).
+inline double idw(double dist, double radius) { return 1.0 / std::max(dist, radius); }
+
+}  // namespace
+
+Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s, const std::vector<double>& puncture_kc,
+                                NeedleEventRing& events) {
+  const Vec3 d = nd.d;
+  Vec3 on_needle = Vec3::Zero();
+  NeedleReadout& ro = nd.ro;
+  ro.press_force = ro.cutting_force = ro.friction_force = 0.0;
+
+  // --- puncture: the tip pushes the entry face it has reached until the eq. 5 threshold breaks it
+  bool breached = false;
+  int breached_component = -1;
+  if (nd.press_n > 0) {
+    double Cp = 0.0;
+    for (int i = 0; i < 3; ++i) Cp += nd.press_w[i] * puncture_kc[m.component_of[nd.press_idx[i]]];
+    double P = nd.spec.press_stiffness * (-nd.press_a);
+    if (P >= Cp) {
+      P = Cp;
+      breached = true;
+      breached_component = nd.press_component;
+      nd.entered[nd.press_component] = 1;
+    }
+    for (int i = 0; i < 3; ++i) s.f[nd.press_idx[i]] += (P * nd.press_w[i]) * d;
+    on_needle -= P * d;
+    ro.press_force = P;
+  }
+
+  // --- cutting (eq. 5): only while the tip moves forward inside tissue
+  const double v_ax = nd.V.dot(d);
+  const double ramp = std::clamp(v_ax / nd.spec.cut_velocity, 0.0, 1.0);
+  const bool inside = nd.zone_n[0] > 0 || (nd.node_count > 1 && nd.zone_n[1] > 0);
+  if (ramp > 0.0 && inside) {
+    // the cutting zone, or the tip node's zone when the tip is between particle layers
+    const bool own = nd.cut_n > 0;
+    const int n = own ? nd.cut_n : nd.zone_n[0] > 0 ? nd.zone_n[0] : nd.zone_n[1];
+    const int* idx = own ? nd.cut_idx.data() : &nd.zone_idx[nd.zone_n[0] > 0 ? 0 : kZoneCapacity];
+    double W = 0.0, WK = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const int p = idx[i];
+      const double w = idw((s.x[p] - nd.T).norm(), nd.radius);
+      W += w;
+      WK += w * m.k_c[p];
+    }
+    const double C = ramp * WK / W;  // eq. 5, ramped in with the forward speed
+    if (WK > 0.0) {
+      for (int i = 0; i < n; ++i) {
+        const int p = idx[i];
+        s.f[p] += (C * idw((s.x[p] - nd.T).norm(), nd.radius) * m.k_c[p] / WK) * d;
+      }
+      on_needle -= C * d;
+      ro.cutting_force = C;
+    }
+  }
+
+  // --- friction (eq. 6) and stick/slip through the virtual tissue particles
+  int engaged = 0, stuck_count = 0;
+  const double kv = nd.spec.stick_stiffness;
+  for (int j = 0; j < nd.node_count; ++j) {
+    AffineAnchor& an = nd.anchors[j];
+    const int n = nd.zone_n[j];
+    if (n == 0) {
+      an.reset();
+      nd.stuck[j] = 1;
+      nd.reported[j] = 255;
+      nd.pending[j] = 0;
+      continue;
+    }
+    const int* zi = &nd.zone_idx[static_cast<size_t>(j) * kZoneCapacity];
+    const double* zd = &nd.zone_dist[static_cast<size_t>(j) * kZoneCapacity];
+    const Vec3 X = needle_node(nd, j);
+    double W = 0.0, WK = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double w = idw(zd[i], nd.radius);
+      W += w;
+      WK += w * m.k_f[zi[i]];
+    }
+    const double Fk = nd.node_scale * WK / W;  // eq. 6, per node length
+    const double Fs = nd.spec.static_ratio * Fk;
+    // (re)anchor when an anchor particle left the zone: coordinates on the current zone
+    // particles (nearest first), the attractor kept where it was so the force is continuous
+    bool rebuild = !an.valid();
+    for (int a = 0; a < an.count && !rebuild; ++a) {
+      bool found = false;
+      for (int i = 0; i < n && !found; ++i) found = zi[i] == an.idx[a];
+      rebuild = !found;
+    }
+    if (!rebuild && !an.rotational && n >= 3 && an.count < std::min(n, kAnchorMaxNeighbours)) rebuild = true;
+    if (rebuild) {
+      const Vec3 keep = an.valid() ? an.evaluate(s.x) : X;
+      an.build(X, zi, n, s.x, keep);
+    }
+    Vec3 Fv = kv * (an.evaluate(s.x) - X);  // virtual elastic force on the node
+    const double fa = Fv.dot(d);
+    const double threshold = nd.stuck[j] ? Fs : Fk;
+    if (std::abs(fa) > threshold) {
+      // slide: the anchor moves along the shaft so the axial force is the kinetic friction
+      const double target = fa > 0.0 ? Fk : -Fk;
+      const double excess = fa - target;
+      an.offset -= (excess / kv) * d;
+      Fv -= excess * d;
+      nd.stuck[j] = 0;
+    } else {
+      nd.stuck[j] = 1;
+    }
+    on_needle += Fv;
+    an.add_reaction(s.f, s.x, Fv);
+    ro.friction_force -= Fv.dot(d);
+    ++engaged;
+    stuck_count += nd.stuck[j];
+    // stick <-> slip events once the new state has held for `debounce` substeps
+    if (nd.reported[j] == 255) {
+      if (++nd.pending[j] >= nd.debounce) { nd.reported[j] = nd.stuck[j]; nd.pending[j] = 0; }
+    } else if (nd.stuck[j] != nd.reported[j]) {
+      if (++nd.pending[j] >= nd.debounce) {
+        nd.reported[j] = nd.stuck[j];
+        nd.pending[j] = 0;
+        push_event(events, nd, nd.stuck[j] ? NeedleEventKind::Stick : NeedleEventKind::Slip, s.time, X, m.component_of[zi[0]], j);
+      }
+    } else {
+      nd.pending[j] = 0;
+    }
+  }
+  ro.engaged_nodes = engaged;
+  ro.stuck_nodes = stuck_count;
+  ro.tissue_force = on_needle;
+  ro.axial_force = -on_needle.dot(d);
+  nd.peak_force = std::max(nd.peak_force, ro.axial_force);
+  if (breached) {
+    NeedleEvent e;
+    e.kind = NeedleEventKind::Puncture;
+    e.needle = nd.index;
+    e.time = s.time;
+    e.position = nd.T;
+    e.depth = insertion_depth(nd);
+    e.force = nd.peak_force;
+    e.component = breached_component;
+    events.push(e);
+    nd.peak_force = 0.0;
+  }
+  return on_needle;
+}
+
+}  // namespace ps

@@ -1,0 +1,148 @@
+// Per-needle runtime state shared by the needle's source files (zones, forces, motion, seeds,
+// biopsy). Engine-internal: users see NeedleTool (needle.h). Every buffer is sized in the
+// constructor; the step functions below never allocate.
+#pragma once
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "engine/tools/needle.h"
+
+namespace ps {
+
+struct SeedState {
+  double depth = 0.0;              // planned depth along the path [m]
+  Vec3 planned = Vec3::Zero();     // [m]
+  bool deposited = false;
+  bool embedded = false;
+  double time = 0.0;               // [s]
+  Vec3 at = Vec3::Zero();          // deposit position [m]
+  Vec3 current = Vec3::Zero();     // carried by the tissue [m]
+  AffineAnchor anchor;
+};
+
+struct CoreState {
+  bool taken = false;
+  double time = 0.0;
+  std::vector<int> particles;      // capacity kCoreCapacity
+  std::vector<int> per_component;  // [components]
+  std::vector<double> tumour_pos;  // scratch: axial positions of tumour particles (capacity)
+  std::vector<double> tumour_half; // scratch: half spacing of each
+  int tumour_particles = 0;
+  double tumour_length = 0.0;      // [m]
+  int overflow = 0;                // particles beyond capacity (counted, not listed)
+};
+inline constexpr int kCoreCapacity = 2048;
+
+struct NeedleTool::Needle {
+  NeedleSpec spec;
+  int index = 0;
+  // geometry
+  int node_count = 0;
+  double radius = 0.0;             // needle radius [m]
+  double Rc = 0.0, Rf = 0.0;             // zone radii [m]
+  double halo = 0.0;               // tube margin = largest tissue spacing near the path [m]
+  double notch_radius = 0.0;       // [m]
+  double node_scale = 1.0;         // friction per node = eq. 6 * node_spacing / 1 mm
+  // planned line: eligible particles near it, sorted by rest position along it
+  std::vector<int> plan_idx;
+  std::vector<double> plan_t;      // [m]
+  int seed_counter = 0;
+  // kinematics
+  Vec3 T = Vec3::Zero();           // tip [m]
+  Vec3 V = Vec3::Zero();           // [m/s]
+  Vec3 d = -Vec3::UnitZ();         // direction (unit)
+  // command
+  bool interactive = false;
+  Vec3 cmd_T = Vec3::Zero(), cmd_d = -Vec3::UnitZ(), cmd_V = Vec3::Zero();
+  double fire_time = NAN;          // gun fire time [s] (NaN: not fired)
+  // tube
+  std::vector<int> tracked, next;  // capacity n
+  std::vector<uint8_t> mark;       // [n] in tube
+  std::vector<uint8_t> entered;    // [components] surface breached (or started inside)
+  // zones
+  std::vector<int> zone_idx;       // [node_count * kZoneCapacity]
+  std::vector<double> zone_dist;   // [node_count * kZoneCapacity] distance to the node [m]
+  std::vector<int> zone_n;         // [node_count]
+  std::array<int, kCutCapacity> cut_idx{};
+  std::array<double, kCutCapacity> cut_dist{};
+  int cut_n = 0;
+  // pressed surface: the entry face of an intact membrane the needle axis crosses behind the tip
+  int press_n = 0;                       // 1 when pressing, else 0
+  std::array<int, 3> press_idx{};        // face vertices (particles)
+  std::array<double, 3> press_w{};       // barycentric weights of the crossing point
+  double press_a = 0.0;                  // crossing position along d relative to the tip (< 0) [m]
+  int press_component = -1;
+  std::vector<uint32_t> face_epoch;      // [faces] last substep a face was tested
+  uint32_t epoch = 0;
+  // virtual tissue particles
+  std::vector<AffineAnchor> anchors;     // [node_count]
+  std::vector<uint8_t> stuck;            // [node_count] 1 stick, 0 slip
+  std::vector<uint8_t> reported;         // [node_count] last reported (255: not yet settled)
+  std::vector<int> pending;              // [node_count] substeps the new state has held
+  int debounce = 1;                      // substeps a stick/slip change must hold to be reported
+  // contact bookkeeping
+  bool contacted = false;
+  double contact_axial = 0.0;            // T.d at first contact [m]
+  double peak_force = 0.0;               // largest axial force since contact / last puncture [N]
+  bool bone_touch = false;
+  bool clamping = false;
+  int phase_blocked = 0;                 // substeps left flagged as blocked
+  // read-out
+  NeedleReadout ro;
+  double tick_sum = 0.0;
+  int tick_n = 0;
+  NeedleZoneStats stats;
+  // seeds and core
+  std::vector<SeedState> seeds;
+  CoreState core;
+  std::vector<uint8_t> tumour;           // [components] counts as tumour in a core
+};
+
+// Surfaces of the membrane components (puncture_n > 0) as faces incident to their particles.
+struct MembraneFaces {
+  std::vector<std::array<int, 3>> faces;   // outward CCW particle triples
+  std::vector<int> face_component;         // [faces]
+  std::vector<int> start;                  // [n+1] CSR: faces incident to particle p
+  std::vector<int> list;
+  double max_puncture = 0.0;               // largest puncture weight [N]
+};
+
+// needle_zones.cpp: tube walk and zone membership (cutting, puncture, friction per node)
+void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s, const std::vector<double>& puncture_kc,
+                         const MembraneFaces& mf, NeedleEventRing& events);
+// needle_forces.cpp: Algorithm 2 per node: tissue forces, virtual elastic force, stick/slip;
+// returns the tissue reaction on the needle [N]
+Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s, const std::vector<double>& puncture_kc,
+                                NeedleEventRing& events);
+// needle_motion.cpp: commanded pose at time t
+void needle_command(const NeedleTool::Needle& nd, double t, Vec3& tip, Vec3& dir, Vec3& vel);
+// needle_motion.cpp: computeNeedleMovement + adjustIntensityNeedleVelocity + bone stop
+void move_needle(NeedleTool::Needle& nd, const Model& m, State& s, const Vec3& f_tissue, double dt, const BoneContact* bone,
+                 NeedleEventRing& events);
+// seeds.cpp / biopsy.cpp (after the step)
+void update_seeds(NeedleTool::Needle& nd, const Model& m, const State& s, NeedleEventRing& events);
+double gun_stroke(const NeedleTool::Needle& nd, double t);
+double gun_stroke_rate(const NeedleTool::Needle& nd, double t);
+void update_biopsy(NeedleTool::Needle& nd, const Model& m, const State& s, NeedleEventRing& events);
+
+inline Vec3 needle_node(const NeedleTool::Needle& nd, int j) { return nd.T - (j * nd.spec.node_spacing) * nd.d; }
+inline double plan_depth(const NeedleTool::Needle& nd) { return (nd.T - nd.spec.start).dot(nd.spec.direction); }
+inline double insertion_depth(const NeedleTool::Needle& nd) { return nd.contacted ? nd.T.dot(nd.d) - nd.contact_axial : 0.0; }
+
+inline void push_event(NeedleEventRing& ev, const NeedleTool::Needle& nd, NeedleEventKind k, double t, const Vec3& pos,
+                       int component = -1, int node = -1, double value = 0.0) {
+  NeedleEvent e;
+  e.kind = k;
+  e.needle = nd.index;
+  e.time = t;
+  e.position = pos;
+  e.depth = insertion_depth(nd);
+  e.force = nd.ro.axial_force;
+  e.component = component;
+  e.node = node;
+  e.value = value;
+  ev.push(e);
+}
+
+}  // namespace ps

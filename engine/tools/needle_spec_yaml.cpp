@@ -1,0 +1,122 @@
+// `needles:` section of a scenario file -> NeedleSetSpec (mm, g, ms in the file; SI here).
+#include "engine/tools/needle_spec_yaml.h"
+
+namespace ps {
+
+namespace {
+
+constexpr double kMm = 1e-3;
+
+NeedleSpec parse_needle(const YamlReader& r, const YAML::Node& v, int index) {
+  const std::string k = "needles.instruments[" + std::to_string(index) + "]";
+  r.only_keys(v, k,
+              {"name", "preset", "gauge", "diameter_mm", "length_mm", "node_spacing_mm", "mass_g", "coupling_stiffness_n_mm",
+               "coupling_damping_n_s_m", "cutting_radius_mm", "friction_radius_mm",
+               "press_stiffness_n_mm", "stick_stiffness_n_mm", "static_ratio", "cut_velocity_mm_s", "max_force_n",
+               "max_speed_m_s", "plan_margin_mm", "start_mm", "direction", "script", "seeds_mm", "gun", "tumour_components"});
+  NeedleSpec s;
+  s.file = r.file();
+  s.line = YamlReader::line_of(v);
+  s.key = k;
+  s.name = v["name"] ? r.string(v["name"], k + ".name") : "needle" + std::to_string(index);
+  if (v["preset"]) {
+    s.preset = r.string(v["preset"], k + ".preset");
+    if (!apply_needle_preset(s.preset, s)) r.fail(v["preset"], k + ".preset", "unknown preset '" + s.preset + "' (biopsy_18g, brachy_18g)");
+  }
+  if (v["gauge"]) {
+    s.gauge = r.integer(v["gauge"], k + ".gauge");
+    if (s.gauge <= 0) r.fail(v["gauge"], k + ".gauge", "must be a positive gauge number");
+    s.diameter = gauge_diameter(s.gauge);
+    if (s.diameter == 0.0 && !v["diameter_mm"])
+      r.fail(v["gauge"], k + ".gauge", "gauge not tabulated (10..30): give diameter_mm");
+  }
+  if (v["diameter_mm"]) s.diameter = r.positive(v["diameter_mm"], k + ".diameter_mm") * kMm;
+  auto pos = [&](const char* key, double scale, double& out) {
+    if (v[key]) out = r.positive(v[key], k + "." + key) * scale;
+  };
+  pos("length_mm", kMm, s.length);
+  pos("node_spacing_mm", kMm, s.node_spacing);
+  pos("mass_g", 1e-3, s.mass);
+  pos("coupling_stiffness_n_mm", 1e3, s.coupling_stiffness);
+  if (v["coupling_damping_n_s_m"]) s.coupling_damping = r.non_negative(v["coupling_damping_n_s_m"], k + ".coupling_damping_n_s_m");
+  pos("cutting_radius_mm", kMm, s.cutting_radius);
+  pos("friction_radius_mm", kMm, s.friction_radius);
+  pos("press_stiffness_n_mm", 1e3, s.press_stiffness);
+  pos("stick_stiffness_n_mm", 1e3, s.stick_stiffness);
+  pos("static_ratio", 1.0, s.static_ratio);
+  pos("cut_velocity_mm_s", kMm, s.cut_velocity);
+  pos("max_force_n", 1.0, s.max_force);
+  pos("max_speed_m_s", 1.0, s.max_speed);
+  pos("plan_margin_mm", kMm, s.plan_margin);
+  s.start = r.vec3(r.require(v, k, "start_mm"), k + ".start_mm", kMm);
+  s.direction = r.unit_vec3(r.require(v, k, "direction"), k + ".direction");
+  if (const YAML::Node sc = v["script"]) {
+    if (!sc.IsSequence()) r.fail(sc, k + ".script", "expected a list of [t_s, depth_mm]");
+    for (size_t i = 0; i < sc.size(); ++i) {
+      const std::string ki = k + ".script[" + std::to_string(i) + "]";
+      if (!sc[i].IsSequence() || sc[i].size() != 2) r.fail(sc[i], ki, "expected [t_s, depth_mm]");
+      NeedleScriptPoint p;
+      p.t = r.non_negative(sc[i][0], ki);
+      p.depth = r.non_negative(sc[i][1], ki) * kMm;
+      if (i > 0 && !(p.t > s.script.back().t)) r.fail(sc[i], ki, "times must increase strictly");
+      s.script.push_back(p);
+    }
+  }
+  if (const YAML::Node sd = v["seeds_mm"]) {
+    if (!sd.IsSequence()) r.fail(sd, k + ".seeds_mm", "expected a list of depths [mm]");
+    for (size_t i = 0; i < sd.size(); ++i)
+      s.seed_depths.push_back(r.positive(sd[i], k + ".seeds_mm[" + std::to_string(i) + "]") * kMm);
+  }
+  if (const YAML::Node g = v["gun"]) {
+    const std::string kg = k + ".gun";
+    r.only_keys(g, kg, {"fire_s", "stroke_mm", "duration_ms", "settle_ms", "notch_offset_mm", "notch_length_mm", "notch_radius_mm"});
+    BiopsyGunSpec gun = s.gun ? *s.gun : BiopsyGunSpec{};
+    gun.fire_time = r.non_negative(r.require(g, kg, "fire_s"), kg + ".fire_s");
+    if (g["stroke_mm"]) gun.stroke = r.positive(g["stroke_mm"], kg + ".stroke_mm") * kMm;
+    if (g["duration_ms"]) gun.duration = r.positive(g["duration_ms"], kg + ".duration_ms") * 1e-3;
+    if (g["settle_ms"]) gun.settle = r.non_negative(g["settle_ms"], kg + ".settle_ms") * 1e-3;
+    if (g["notch_offset_mm"]) gun.notch_offset = r.non_negative(g["notch_offset_mm"], kg + ".notch_offset_mm") * kMm;
+    if (g["notch_length_mm"]) gun.notch_length = r.positive(g["notch_length_mm"], kg + ".notch_length_mm") * kMm;
+    if (g["notch_radius_mm"]) gun.notch_radius = r.positive(g["notch_radius_mm"], kg + ".notch_radius_mm") * kMm;
+    s.gun = gun;
+  }
+  if (const YAML::Node tc = v["tumour_components"]) {
+    if (!tc.IsSequence()) r.fail(tc, k + ".tumour_components", "expected a list of component names");
+    for (size_t i = 0; i < tc.size(); ++i)
+      s.tumour_components.push_back(r.string(tc[i], k + ".tumour_components[" + std::to_string(i) + "]"));
+  }
+  validate_needle_spec(s);
+  return s;
+}
+
+}  // namespace
+
+NeedleSetSpec parse_needles_yaml(const YamlReader& r, const YAML::Node& node) {
+  r.only_keys(node, "needles", {"puncture_n", "instruments", "event_capacity"});
+  NeedleSetSpec set;
+  set.file = r.file();
+  set.line = YamlReader::line_of(node);
+  if (const YAML::Node p = node["puncture_n"]) {
+    if (!p.IsMap()) r.fail(p, "needles.puncture_n", "expected a mapping component -> puncture force [N]");
+    for (auto it = p.begin(); it != p.end(); ++it) {
+      const std::string c = it->first.as<std::string>();
+      set.puncture.emplace_back(c, r.non_negative(it->second, "needles.puncture_n." + c));
+    }
+  }
+  if (node["event_capacity"]) {
+    set.event_capacity = r.integer(node["event_capacity"], "needles.event_capacity");
+    if (set.event_capacity < 16 || set.event_capacity > 1000000)
+      r.fail(node["event_capacity"], "needles.event_capacity", "must be in 16..1000000");
+  }
+  const YAML::Node list = r.require(node, "needles", "instruments");
+  if (!list.IsSequence() || list.size() == 0) r.fail(list, "needles.instruments", "expected a non-empty list of needles");
+  for (size_t i = 0; i < list.size(); ++i) {
+    set.needles.push_back(parse_needle(r, list[i], static_cast<int>(i)));
+    for (size_t j = 0; j < i; ++j)
+      if (set.needles[j].name == set.needles[i].name)
+        r.fail(list[i], "needles.instruments[" + std::to_string(i) + "].name", "duplicate needle name '" + set.needles[i].name + "'");
+  }
+  return set;
+}
+
+}  // namespace ps

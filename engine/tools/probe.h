@@ -1,0 +1,148 @@
+// Endorectal ultrasound probe (paper §4.1, §5.4.1; issue 5): a rigid kinematic capsule whose pose
+// is commanded (scripted moves from the scenario, live move_to() between ticks), pushing tissue
+// by displacement boundary conditions.
+//
+// Contact modes (probe.contact.mode):
+//  - contact (DEFAULT): every substep, in the Tool::constraints hook, each particle of the
+//    contact components that lies inside the capsule is projected along the capsule normal onto
+//    its surface (frictionless displacement boundary condition) and marked State::contact = 7 so
+//    the volume projection leaves it alone; its velocity follows through the engine's velocity
+//    adjust. The prostate then moves through whatever tissue lies between it and the probe
+//    (rectal wall, fat), so its motion depends on that tissue's stiffness, and the guarantee
+//    below holds for every tissue particle. That is why it is the default.
+//  - imposed (paper §5.4.1 literally: "displacements are imposed to the prostate particles
+//    directly in contact with the rectum particles in collision with the probe"): contact as
+//    above, plus every prostate particle within couple_distance (at rest) of a rectum particle
+//    that the probe corrected this substep is placed at its rest position plus the mean
+//    displacement of those rectum particles, and marked contact = 7. It bypasses the tissue in
+//    between (a stiffer, more local response) and needs the prostate to touch the rectum at rest;
+//    kept as the paper's reference.
+//
+// Guarantee: after every substep no movable particle of the contact components is inside the
+// probe by more than kProbePenetrationTolerance (0.1 mm). The volume projection runs after the
+// tool and may push non-contact vertices of a constrained surface back into the probe; when a
+// contact component shares a vertex with a constrained surface, constraints() alternates
+// project_volumes() and the contact projection (at most kProbeVolumeIterations times) until the
+// remaining penetration is below 1 um, and the engine's own volume stage then only corrects
+// round-off. Particles held by the scene (fixed, imposed, rigid / bone) are never moved by the
+// probe; if the probe is driven into them they are counted in blocked_count() (reported, not a
+// fault). Contact is against particles only: a membrane triangle between two particles resting
+// on the probe may sag into it by about h^2 / (8 r) (0.3 mm for h = 5 mm, r = 10 mm).
+//
+// Broad phase: an axis-aligned box around the capsule, then the exact analytic capsule distance.
+// FCL is not used: for particles against one capsule it adds nothing over this O(n) loop and its
+// broad-phase managers allocate; the loop is allocation-free.
+//
+// Reaction force (force feedback read-out): a contact correction dx_p of a particle of mass m_p
+// over a substep dt stands for a force m_p dx_p / dt^2 applied by the probe (in quasi-static
+// contact it equals the elastic force pressing the particle on the probe). The tissue's force on
+// the probe is minus the sum, averaged over the substeps of the last tick; the torque is about
+// the pivot.
+//
+// Commanded motion: each scripted move and each move_to() takes the named pose fields from their
+// value when it starts to the target, along a smoothstep 3s^2 - 2s^3 (zero velocity at both
+// ends: a hand-held probe starts and stops smoothly and the tissue is not kicked). A move that
+// starts takes over from the one running (which stops where it is). Moves faster than
+// max_speed (translation, |d insertion| + |d offset|) or max_angular_speed (|d roll| + |d tilt|
+// + |d yaw|) at their peak (1.5x the mean) are lengthened to the limit and reported.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/step/simulation.h"
+#include "engine/tools/probe_geometry.h"
+
+namespace ps {
+
+inline constexpr double kProbePenetrationTolerance = 1e-4;  // [m] guaranteed after every substep
+inline constexpr int kProbeVolumeIterations = 4;            // contact <-> volume alternations
+inline constexpr double kProbeMaxTiltRad = 0.7853981633974483;  // |tilt|, |yaw| <= 45 deg
+
+class ProbeTool final : public Tool {
+ public:
+  // Checks the spec against the model and throws InputError (file:line:field) when a named
+  // component is missing, the start pose is outside the rectum, overlaps tissue by more than the
+  // tolerance, or lies inside a rigid component (bone).
+  ProbeTool(const ProbeSpec& spec, const Model& model);
+
+  const char* name() const override { return "probe"; }
+  void boundary_conditions(const Model& m, State& s, double dt) override;
+  void constraints(const Model& m, State& s, double dt) override;
+  void after_step(const Model& m, State& s, double dt) override;
+
+  // --- commands (between ticks, never during a step) ---
+  // Moves every pose field to `target` over `duration` [s] from the end of the last substep.
+  // Returns the duration used (lengthened to the speed limits, then reported). Throws
+  // InputError (field "probe.move_to") for a non-finite target, a tilt/yaw beyond 45 degrees or
+  // a negative duration.
+  double move_to(const ProbePose& target, double duration);
+
+  // --- read-outs ---
+  const ProbePose& pose() const { return pose_; }          // commanded, end of last substep
+  const ProbeFrame& frame() const { return frame_; }
+  const RectalFrame& rectal() const { return rectal_; }
+  const ProbeSpec& spec() const { return spec_; }
+  Vec3 reaction_force() const { return force_; }           // tissue on probe, tick mean [N]
+  Vec3 reaction_torque() const { return torque_; }         // about the pivot, tick mean [N m]
+  int contact_count() const { return contacts_; }          // particles corrected last substep
+  int imposed_count() const { return imposed_; }           // imposed mode: targets last substep
+  double max_penetration() const { return penetration_; }  // movable particles, last substep [m]
+  double max_penetration_seen() const { return penetration_seen_; }  // whole run [m]
+  int blocked_count() const { return blocked_; }           // held particles inside, last substep
+  int64_t blocked_substeps() const { return blocked_substeps_; }
+  // Clamps applied to commands (speed limits), in order.
+  const std::vector<std::string>& reports() const { return reports_; }
+
+  // needle paths fixed to the probe at the current commanded pose
+  NeedlePath biopsy_guide() const { return biopsy_guide_path(spec_, frame_); }
+  NeedlePath template_hole(int col, int row) const { return template_hole_path(spec_, rectal_, pose_, col, row); }
+
+ private:
+  struct Move {
+    double t0 = 0.0, t1 = 0.0;     // [s]
+    ProbePose from, to;
+  };
+  static ProbePose evaluate(const Move& mv, double t);
+  double min_duration(const ProbePose& a, const ProbePose& b) const;  // speed limits [s]
+  void advance_to(double t);
+  double contact_pass(const Model& m, State& s, double inv_dt2);  // returns max correction [m]
+  void imposed_pass(const Model& m, State& s, double inv_dt2);
+  void add_reaction(const Vec3& x_new, const Vec3& dx, double mass, double inv_dt2);
+
+  ProbeSpec spec_;
+  RectalFrame rectal_;
+  // commanded motion
+  std::vector<ProbeMoveSpec> script_;  // sorted by t0, durations already limited
+  size_t next_ = 0;
+  Move active_;
+  double now_ = 0.0;               // time of pose_ [s]
+  ProbePose pose_;
+  ProbeFrame frame_;
+  Vec3 lo_ = Vec3::Zero(), hi_ = Vec3::Zero();  // capsule bounding box this substep [m]
+  // contact set (fixed at construction)
+  std::vector<int> cand_;          // candidate particles
+  std::vector<uint8_t> movable_;   // [cand] 0: held by the scene (fixed, imposed, rigid)
+  std::vector<uint8_t> hit_;       // [cand] corrected this substep
+  bool volume_coupled_ = false;    // a candidate or target is on a volume-constrained surface
+  // imposed mode: candidate -> coupled target slots (CSR), scratch per slot
+  std::vector<int> couple_start_;  // [cand + 1]
+  std::vector<int> couple_slot_;
+  std::vector<int> target_;        // [slots] particle
+  std::vector<Vec3> acc_;          // [slots] summed rectum displacement [m]
+  std::vector<int> cnt_;           // [slots]
+  std::vector<int> touched_;       // [slots] slots touched this substep
+  // read-outs
+  Vec3 force_acc_ = Vec3::Zero(), torque_acc_ = Vec3::Zero();
+  Vec3 force_ = Vec3::Zero(), torque_ = Vec3::Zero();
+  int substeps_acc_ = 0;
+  int contacts_ = 0, imposed_ = 0, blocked_ = 0;
+  int64_t blocked_substeps_ = 0;
+  double penetration_ = 0.0, penetration_seen_ = 0.0;
+  std::vector<std::string> reports_;
+};
+
+// The probe of a scenario (nullptr when it has no probe: section).
+std::unique_ptr<ProbeTool> make_probe_tool(const ScenarioSpec& spec, const Model& model);
+
+}  // namespace ps

@@ -1,0 +1,129 @@
+// The prostatesim command as a user runs it: outputs, exit codes, bad input handling.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result { int code; std::string out; };
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string(PROSTATESIM_BINARY) + " " + args + " 2>&1";
+  Result r{0, ""};
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p)) r.out.append(buf, n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("prostatesim_cli_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+const std::string kSource = PROSTATESIM_SOURCE_DIR;
+
+TEST(Cli, SimulateWritesParticlesSummaryAndSurfaces) {
+  const fs::path out = temp_dir("sim") / "run";
+  const Result r = run("simulate " + kSource + "/config/demo_cube.yaml --duration 0.2 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string csv = read(out / "particles.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "id,component,x0_mm,y0_mm,z0_mm,x_mm,y_mm,z_mm");
+  const auto j = nlohmann::json::parse(read(out / "summary.json"));
+  for (const char* k : {"steps", "sim_time_s", "wall_time_s", "kinetic_energy_J", "max_speed_m_s", "volume_error", "warnings"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  EXPECT_NEAR(j["sim_time_s"].get<double>(), 0.2, 1e-9);
+  EXPECT_LE(j["volume_error"]["block"].get<double>(), 1e-10);
+  EXPECT_TRUE(fs::exists(out / "block.obj"));
+}
+
+TEST(Cli, UntilRestStopsEarly) {
+  const fs::path out = temp_dir("rest") / "run";
+  const Result r = run("simulate " + kSource + "/config/demo_cube.yaml --until-rest --duration 30 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(read(out / "summary.json"));
+  EXPECT_LT(j["sim_time_s"].get<double>(), 30.0);
+  EXPECT_LT(j["kinetic_energy_J"].get<double>(), 1e-7);
+}
+
+TEST(Cli, BadScenarioExits2NamingFileLineKeyAndWritesNothing) {
+  const fs::path dir = temp_dir("bad");
+  const fs::path scen = dir / "bad.yaml";
+  std::ofstream(scen) << "name: bad\nmaterials:\n  soft: {young_kpa: -5}\ncomponents:\n"
+                         "  - {name: c, material: soft, spacing_mm: 5, box: {min_mm: [0,0,0], max_mm: [10,10,10]}}\n";
+  const fs::path out = dir / "out";
+  const Result r = run("simulate " + scen.string() + " --out " + out.string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("bad.yaml:3"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("young_kpa"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one error line: " << r.out;
+}
+
+TEST(Cli, MissingFileAndBadOptionExit2) {
+  EXPECT_EQ(run("simulate /nonexistent/x.yaml --out /tmp/never_written").code, 2);
+  EXPECT_FALSE(fs::exists("/tmp/never_written"));
+  EXPECT_EQ(run("simulate --duration -3 x.yaml").code, 2);
+  EXPECT_EQ(run("no-such-command").code, 2);
+}
+
+TEST(Cli, BlowUpExits3NamingParticleAndTime) {
+  const fs::path dir = temp_dir("blow");
+  const fs::path scen = dir / "blow.yaml";
+  // the paper's literal redistribution with a stiff raw k_e grows an oscillation at any dt
+  std::ofstream(scen) << "name: blow\nsolver: {redistribution: linear}\ntime: {dt_ms: 1, duration_s: 1}\n"
+                         "materials:\n  soft: {k_e_n_m: 1.0e6, damping_1_s: 0}\ncomponents:\n"
+                         "  - {name: cube, material: soft, spacing_mm: 10, box: {min_mm: [0,0,0], max_mm: [40,40,40]}}\n"
+                         "constraints:\n  - fix: {component: cube, region: {box: {min_mm: [-1,-1,-1], max_mm: [41,41,0.5]}}}\n";
+  const fs::path out = dir / "out";
+  const Result r = run("simulate " + scen.string() + " --out " + out.string());
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("particle"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("t="), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out / "particles.csv"));
+  const auto j = nlohmann::json::parse(read(out / "summary.json"));
+  EXPECT_TRUE(j.contains("fault"));
+}
+
+TEST(Cli, CheckPrintsCountsAndStableDt) {
+  const Result r = run("check " + kSource + "/config/demo_cube.yaml");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("block"), std::string::npos);
+  EXPECT_NE(r.out.find("largest stable substep"), std::string::npos);
+}
+
+TEST(Cli, ValidateJsonRowsHaveExactlyFiveKeysAndExitMatchesStatus) {
+  const fs::path json = temp_dir("val") / "rows.json";
+  const Result r = run("validate cube_frictionless --root " + kSource + " --json " + json.string());
+  ASSERT_TRUE(r.code == 0 || r.code == 1) << r.out;
+  const auto rows = nlohmann::json::parse(read(json));
+  ASSERT_GE(rows.size(), 1u);
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.size(), 5u);
+    for (const char* k : {"case", "metric", "value", "reference", "unit"}) EXPECT_TRUE(row.contains(k)) << k;
+  }
+  EXPECT_EQ(rows[0]["metric"], "bulge_mm");
+  EXPECT_NEAR(rows[0]["reference"].get<double>(), 2.762, 5e-4);
+  EXPECT_EQ(r.code == 0, r.out.find("all within tolerance") != std::string::npos) << r.out;
+  EXPECT_EQ(run("validate no_such_case").code, 2);
+}
+
+}  // namespace
