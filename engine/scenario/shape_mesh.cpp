@@ -13,8 +13,9 @@ namespace ps {
 TriMesh load_component_surface(const ComponentSpec& c, const std::string& file, double spacing) {
   const MeshShapeSpec& ms = c.shape.mesh;
   MeshImportOptions opt;
-  opt.units = "m";                         // unit conversion folded into the first scale
-  opt.scale = ms.unit_scale * ms.scale;
+  // the importer converts units itself (and checks the size in metres after that conversion)
+  opt.units = ms.unit_scale == 1e-3 ? "mm" : ms.unit_scale == 1e-2 ? "cm" : ms.unit_scale == 1e-1 ? "dm" : "m";
+  opt.scale = ms.scale;
   opt.rotate_deg = ms.rotate_deg;
   opt.translate_m = ms.translate;
   TriMesh closed = repair_closed_surface(import_mesh(ms.file, opt), ms.file);
