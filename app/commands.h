@@ -18,5 +18,6 @@ void add_simulate_command(CLI::App& app, Runner& run);
 void add_check_command(CLI::App& app, Runner& run);
 void add_validate_command(CLI::App& app, Runner& run);
 void add_make_anatomy_command(CLI::App& app, Runner& run);
+void add_insert_command(CLI::App& app, Runner& run);        // cmd_insert.cpp (needles)
 
 }  // namespace ps::app

@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include "app/validate_needle.h"
+#include "app/validate_probe.h"
+
 namespace ps::app {
 
 bool ValidationRow::pass() const {
@@ -13,6 +16,8 @@ const std::vector<ValidationCase>& validation_cases() {
   static const std::vector<ValidationCase> cases = [] {
     std::vector<ValidationCase> all;
     for (auto&& c : tissue_validation_cases()) all.push_back(std::move(c));
+    for (auto&& c : needle_validation_cases()) all.push_back(std::move(c));
+    for (auto&& c : probe_validation_cases()) all.push_back(std::move(c));
     return all;
   }();
   return cases;

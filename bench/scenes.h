@@ -1,12 +1,13 @@
 // Scenes the benchmarks and the stability study run, built from scenario text so they go through
 // the same parser and compiler as a user's file (nothing read from disk).
-//   cube N        volumetric N x N x N lattice, 10 mm spacing, E = 10 kPa, bottom layer fixed,
-//                 gravity -z. N = 11 -> 1331 particles (the paper's "1300 particles, 133 ms per
-//                 iteration" size), N = 22 -> 10648.
+//   cube N        volumetric N x N x N lattice, 6 mm spacing (the calibration's reference
+//                 spacing), E = 10 kPa, bottom layer fixed, gravity -z. N = 11 -> 1331 particles
+//                 (the paper's "1300 particles, 133 ms per iteration" size), N = 22 -> 10648.
 //   cylinder      the truth-cylinder geometry as a primitive: radius 19 mm, length 178 mm along +z,
 //                 spacing 6 mm, surface mesh + interior lattice (volumetric_particles, the same
-//                 path a mesh file takes), clamped at z = 0, gravity -y. Surface particles have
-//                 ~8 neighbours, hence many beta triplets.
+//                 path a mesh file takes), clamped at z = 0, gravity -y: 1300 particles. Surface
+//                 particles have ~8 neighbours, hence many beta triplets (28 per particle).
+// Trailing i in a scene name: incompressible (volume constraint on the surface).
 #pragma once
 #include <memory>
 #include <string>
@@ -16,15 +17,18 @@
 
 namespace ps::bench {
 
+inline constexpr int kCubeSpacingMm = 6;
+
 inline std::string material_yaml(bool incompressible, double damping_1_s) {
   return "materials:\n"
          "  soft: {young_kpa: 10, density_kg_m3: 1000, damping_1_s: " + std::to_string(damping_1_s) +
          ", incompressible: " + (incompressible ? "true" : "false") + "}\n";
 }
 
-// points_per_side lattice points on each edge, 10 mm apart
-inline std::string cube_scene(int points_per_side, bool incompressible, double damping_1_s = 20) {
-  const std::string side = std::to_string(10 * (points_per_side - 1));
+// points_per_side lattice points on each edge, spacing_mm apart
+inline std::string cube_scene(int points_per_side, bool incompressible, double damping_1_s = 20,
+                              int spacing_mm = kCubeSpacingMm) {
+  const std::string side = std::to_string(spacing_mm * (points_per_side - 1));
   return "name: bench_cube\n"
          "time: {dt_ms: 1, substeps: 1, duration_s: 1}\n"
          "gravity_m_s2: [0, 0, -9.81]\n" +
@@ -32,7 +36,7 @@ inline std::string cube_scene(int points_per_side, bool incompressible, double d
          "components:\n"
          "  - name: cube\n"
          "    material: soft\n"
-         "    spacing_mm: 10\n"
+         "    spacing_mm: " + std::to_string(spacing_mm) + "\n"
          "    box: {min_mm: [0, 0, 0], max_mm: [" + side + ", " + side + ", " + side + "]}\n"
          "constraints:\n"
          "  - fix: {component: cube, region: {box: {min_mm: [-1, -1, -1], max_mm: [100000, 100000, 0.5]}}}\n";
@@ -56,16 +60,22 @@ inline std::shared_ptr<const Model> compile_scene(const std::string& yaml) {
   return compile_scenario(parse_scenario_text(yaml, "bench.yaml"));
 }
 
-// Scene by name, for the command-line modes: cube11, cube11i, cube22, cube22i, cyl, cyli
-// (trailing i = incompressible). Returns null for an unknown name.
+// Scenario text by name, for the command-line modes: cube11, cube11i, cube22, cube22i, cyl, cyli
+// (trailing i = incompressible). Empty for an unknown name.
+inline std::string scene_text(const std::string& name, double damping_1_s = 20) {
+  if (name == "cube11") return cube_scene(11, false, damping_1_s);
+  if (name == "cube11i") return cube_scene(11, true, damping_1_s);
+  if (name == "cube22") return cube_scene(22, false, damping_1_s);
+  if (name == "cube22i") return cube_scene(22, true, damping_1_s);
+  if (name == "cyl") return cylinder_scene(false, damping_1_s);
+  if (name == "cyli") return cylinder_scene(true, damping_1_s);
+  return {};
+}
+
+// Compiled scene by name; null for an unknown name.
 inline std::shared_ptr<const Model> scene_by_name(const std::string& name, double damping_1_s = 20) {
-  if (name == "cube11") return compile_scene(cube_scene(11, false, damping_1_s));
-  if (name == "cube11i") return compile_scene(cube_scene(11, true, damping_1_s));
-  if (name == "cube22") return compile_scene(cube_scene(22, false, damping_1_s));
-  if (name == "cube22i") return compile_scene(cube_scene(22, true, damping_1_s));
-  if (name == "cyl") return compile_scene(cylinder_scene(false, damping_1_s));
-  if (name == "cyli") return compile_scene(cylinder_scene(true, damping_1_s));
-  return nullptr;
+  const std::string text = scene_text(name, damping_1_s);
+  return text.empty() ? nullptr : compile_scene(text);
 }
 
 }  // namespace ps::bench

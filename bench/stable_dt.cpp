@@ -1,9 +1,16 @@
 // Empirical stability limit of the explicit step vs Model::stable_dt_estimate
-// (compile.cpp estimate_stable_dt: 2/sqrt(lambda_max(M^-1 K)) of the undamped linearisation).
-// Each scene is compiled with damping 0 and stepped from rest under gravity with a substep of
-// fraction * estimate, bypassing the automatic substepping (step(h) takes any h). "stable" means
-// no fault (NaN, speed > 50 m/s, excursion > 1 m) within the given number of substeps.
+// (compile.cpp estimate_stable_dt: 2/sqrt(lambda_max(M^-1 K)) of the undamped linearisation at
+// rest, by power iteration). Every scene is compiled with damping 0 and stepped with a substep
+// of fraction * estimate, bypassing the automatic substepping (step(h) takes any h; the model's
+// dt/substeps are not used). Two regimes:
+//   linear   gravity off, every free coordinate displaced by uniform noise of +-1 um, at rest;
+//            unstable when some particle gets 100 um from rest (or the check faults) within
+//            `steps` substeps. This is exactly what the estimate predicts.
+//   gravity  the scene as written (gravity on), from rest, for 0.5 s of simulated time;
+//            unstable when the check faults (NaN, speed > 50 m/s, excursion > 1 m).
+#include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "bench/bench_modes.h"
 #include "bench/scenes.h"
@@ -11,45 +18,89 @@
 namespace ps::bench {
 
 namespace {
-// substeps run before the first fault, or -1 when all `steps` ran
-long first_fault(const std::shared_ptr<const Model>& m, double h, int steps, std::string* why) {
+
+constexpr double kNoise = 1e-6;        // initial displacement amplitude, linear regime [m]
+constexpr double kGrown = 1e-4;        // displacement that counts as growth [m]
+constexpr double kGravityTime = 0.5;   // simulated time of the gravity regime [s]
+
+struct Outcome {
+  bool stable = true;
+  long steps = 0;            // substeps run
+  std::string why;           // fault or growth, when unstable
+};
+
+Outcome run_linear(const std::shared_ptr<const Model>& m, double h, int steps) {
   Simulation sim(m);
-  for (int i = 0; i < steps; ++i)
-    if (!sim.step(h)) {
-      if (why) *why = sim.state().fault.describe(*m);
-      return i;
+  State& s = sim.state();
+  std::mt19937_64 rng(2024);
+  std::uniform_real_distribution<double> U(-kNoise, kNoise);
+  for (int p = 0; p < m->particle_count(); ++p)
+    for (int a = 0; a < 3; ++a)
+      if (m->inv_mass[p] > 0.0 && !(m->locked_axes[p] & (1u << a))) s.x[p][a] += U(rng);
+  Outcome o;
+  for (int i = 0; i < steps; ++i) {
+    o.steps = i + 1;
+    if (!sim.step(h)) { o.stable = false; o.why = s.fault.describe(*m); return o; }
+    if (i % 50 == 49) {
+      double d2 = 0;
+      for (int p = 0; p < m->particle_count(); ++p) d2 = std::max(d2, (s.x[p] - m->rest_pos[p]).squaredNorm());
+      if (d2 > kGrown * kGrown) {
+        o.stable = false;
+        o.why = "displacement grew from 1 um to " + std::to_string(std::sqrt(d2) * 1e6) + " um";
+        return o;
+      }
     }
-  return -1;
+  }
+  return o;
 }
+
+Outcome run_gravity(const std::shared_ptr<const Model>& m, double h) {
+  Simulation sim(m);
+  Outcome o;
+  const long steps = std::lround(kGravityTime / h);
+  for (long i = 0; i < steps; ++i) {
+    o.steps = i + 1;
+    if (!sim.step(h)) { o.stable = false; o.why = sim.state().fault.describe(*m); return o; }
+  }
+  return o;
+}
+
+std::shared_ptr<const Model> compile_with(const std::string& name, bool gravity) {
+  ScenarioSpec spec = parse_scenario_text(scene_text(name, 0.0), "stable_dt.yaml");
+  if (!gravity) spec.gravity = Vec3::Zero();
+  return compile_scenario(spec);
+}
+
 }  // namespace
 
 int stable_dt_study(int steps) {
-  std::printf("stability study: damping 0, from rest under gravity, %d substeps per run\n", steps);
+  std::printf("stability study: damping 0; linear regime %d substeps from +-1 um noise without gravity, "
+              "gravity regime %.2f s from rest\n", steps, kGravityTime);
   const char* const scenes[] = {"cube11", "cube11i", "cyl", "cyli"};
   const double fractions[] = {0.5, 0.9, 1.0, 1.1, 1.5, 2.0};
   for (const char* name : scenes) {
-    auto m = scene_by_name(name, 0.0);
-    const double est = m->stable_dt_estimate;
-    std::printf("\n%s: %d particles, estimate %.6g s\n", name, m->particle_count(), est);
-    for (double f : fractions) {
-      std::string why;
-      const long k = first_fault(m, f * est, steps, &why);
-      if (k < 0) std::printf("  %.2f x estimate (%.4g s): stable for %d substeps (%.4g s)\n", f, f * est, steps, steps * f * est);
-      else std::printf("  %.2f x estimate (%.4g s): FAULT after %ld substeps: %s\n", f, f * est, k, why.c_str());
+    for (bool gravity : {false, true}) {
+      auto m = compile_with(name, gravity);
+      const double est = m->stable_dt_estimate;
+      const char* regime = gravity ? "gravity" : "linear";
+      auto run = [&](double f) { return gravity ? run_gravity(m, f * est) : run_linear(m, f * est, steps); };
+      std::printf("\n%s, %s regime: %d particles, estimate %.6g s\n", name, regime, m->particle_count(), est);
+      for (double f : fractions) {
+        const Outcome o = run(f);
+        if (o.stable) std::printf("  %.2f x estimate: stable (%ld substeps)\n", f, o.steps);
+        else std::printf("  %.2f x estimate: UNSTABLE after %ld substeps: %s\n", f, o.steps, o.why.c_str());
+        std::fflush(stdout);
+      }
+      // bisection on the fraction between a stable lo and an unstable hi
+      double lo = 0.5, hi = 2.0;
+      if (!run(lo).stable || run(hi).stable) { std::printf("  no bracket in [0.5, 2]\n"); continue; }
+      while (hi - lo > 0.005) {
+        const double mid = 0.5 * (lo + hi);
+        (run(mid).stable ? lo : hi) = mid;
+      }
+      std::printf("  %s %s: largest stable substep %.3f..%.3f x estimate\n", name, regime, lo, hi);
       std::fflush(stdout);
     }
-    // bisection on the fraction: lo stable, hi faulted (when the bracket holds)
-    double lo = 0.5, hi = 2.0;
-    if (first_fault(m, lo * est, steps, nullptr) >= 0 || first_fault(m, hi * est, steps, nullptr) < 0) {
-      std::printf("  no bracket in [0.5, 2]\n");
-      continue;
-    }
-    while (hi - lo > 0.005) {
-      const double mid = 0.5 * (lo + hi);
-      (first_fault(m, mid * est, steps, nullptr) < 0 ? lo : hi) = mid;
-    }
-    std::printf("  largest stable fraction: %.3f..%.3f x estimate (%.4g s .. %.4g s)\n", lo, hi, lo * est, hi * est);
-    std::fflush(stdout);
   }
   return 0;
 }

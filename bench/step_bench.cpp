@@ -1,7 +1,9 @@
 // One physics substep, Simulation::step(), single thread. items_per_second counts particles, so
 // 1/items_per_second is the time per particle-iteration; ns_per_particle shows it directly.
 // BM_StepStages runs the same pipeline stage by stage (bench/modes.cpp timed_step) and reports the
-// mean wall time of each stage per step in ns (clock reads add ~20 ns per stage).
+// mean wall time of each stage per step in ns (clock reads add ~20 ns per stage) and its share
+// of the step in percent. Every benchmark restores its warmed state every kCycle substeps
+// (bench_common.h).
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_common.h"
@@ -19,25 +21,34 @@ void set_particle_counters(benchmark::State& state, int n) {
 }
 
 void BM_Step(benchmark::State& state, const char* scene) {
-  auto sim = warmed(scene);
-  const double h = substep(sim->model());
+  CyclingRun run(scene);
+  Simulation& sim = run.sim();
+  const double h = run.h();
   for (auto _ : state) {
-    if (!sim->step(h)) { state.SkipWithError("step faulted"); break; }
+    run.maybe_restore();
+    if (!sim.step(h)) { state.SkipWithError("step faulted"); break; }
   }
-  set_particle_counters(state, sim->model().particle_count());
+  set_particle_counters(state, sim.model().particle_count());
 }
 
 void BM_StepStages(benchmark::State& state, const char* scene) {
-  auto sim = warmed(scene);
-  const double h = substep(sim->model());
+  CyclingRun run(scene);
+  Simulation& sim = run.sim();
   StageTimes times;
   for (auto _ : state) {
-    if (!timed_step(*sim, h, times)) { state.SkipWithError("step faulted"); break; }
+    run.maybe_restore();
+    if (!timed_step(sim, run.h(), times)) { state.SkipWithError("step faulted"); break; }
   }
-  set_particle_counters(state, sim->model().particle_count());
-  for (Stage st : sim->pipeline())
-    state.counters[std::string(stage_name(st)) + "_ns"] =
-        benchmark::Counter(static_cast<double>(times.ns[static_cast<int>(st)]), benchmark::Counter::kAvgIterations);
+  set_particle_counters(state, sim.model().particle_count());
+  // wall time per stage and its share of the step: on a shared machine preemption lands in the
+  // stages in proportion to their length, so the shares are the robust figure
+  int64_t total = 0;
+  for (Stage st : sim.pipeline()) total += times.ns[static_cast<int>(st)];
+  for (Stage st : sim.pipeline()) {
+    const double ns = static_cast<double>(times.ns[static_cast<int>(st)]);
+    state.counters[std::string(stage_name(st)) + "_ns"] = benchmark::Counter(ns, benchmark::Counter::kAvgIterations);
+    state.counters[std::string(stage_name(st)) + "_pct"] = total > 0 ? 100.0 * ns / static_cast<double>(total) : 0.0;
+  }
 }
 
 BENCHMARK_CAPTURE(BM_Step, cube11, "cube11")->Unit(benchmark::kMicrosecond);

@@ -81,6 +81,16 @@ inline void scatter(double* fq, D2 x, D2 y, D2 z) {
 }
 #endif
 
+// Two builds of the stage, picked once at load time by the CPU: the AVX one runs the same SSE2
+// operations VEX-encoded (three-operand, memory operands need no alignment: ~17% fewer
+// instructions). "avx" brings no FMA, so both builds round identically (bit-identical states;
+// never widen this to a target with FMA, or contraction would change results by machine).
+#if defined(__x86_64__) && defined(__GNUC__) && defined(__ELF__)
+#define PS_SIMD_CLONES __attribute__((target_clones("avx", "default")))
+#else
+#define PS_SIMD_CLONES
+#endif
+
 struct V2 { D2 x, y, z; };  // a 3-vector per lane
 inline V2 operator-(const V2& a, const V2& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 inline V2 cross(const V2& a, const V2& b) {
@@ -139,25 +149,34 @@ static_assert(InvLen2 + 1 == kFields);
 
 }  // namespace
 
-void add_shape_memory_forces(const Model& m, State& s) {
+PS_SIMD_CLONES void add_shape_memory_forces(const Model& m, State& s) {
+  // raw pointers: through m and s the compiler would reload every vector's buffer after each store
   const int n = m.particle_count();
   const Vec3* x = s.x.data();
   Vec3* f = s.f.data();
-  const bool gradient = m.redistribution == Redistribution::Gradient;
+  Vec3* attractor = s.attractor.data();
+  const uint8_t* has_memory = m.shape_memory.data();
+  const int* nbr_start = m.nbr_start.data();
+  const int* nbr = m.nbr.data();
+  const double* nbr_w = m.nbr_w.data();
+  const int* beta_start = m.beta_start.data();
   const BetaTriplet* beta = m.beta.data();
+  const double* k_e = m.k_e.data();
+  const bool gradient = m.redistribution == Redistribution::Gradient;
   int cap = static_cast<int>(s.triplet_scratch.size() / kFields);  // triplets it can hold
+  double* sc = s.triplet_scratch.data();
   for (int p = 0; p < n; ++p) {
-    if (!m.shape_memory[p]) continue;
-    const int ns = m.nbr_start[p], ne = m.nbr_start[p + 1];
-    const int bs = m.beta_start[p], be = m.beta_start[p + 1], count = be - bs;
+    if (!has_memory[p]) continue;
+    const int ns = nbr_start[p], ne = nbr_start[p + 1];
+    const int bs = beta_start[p], count = beta_start[p + 1] - bs;
     if (count > cap) {  // only for a State not made by make_state(): sized once, then reused
       cap = (count + 1) & ~1;
       s.triplet_scratch.assign(static_cast<size_t>(kFields) * cap, 0.0);
+      sc = s.triplet_scratch.data();
     }
-    double* sc = s.triplet_scratch.data();
 
     Vec3 target = Vec3::Zero();
-    for (int a = ns; a < ne; ++a) target += m.nbr_w[a] * x[m.nbr[a]];
+    for (int a = ns; a < ne; ++a) target += nbr_w[a] * x[nbr[a]];
     // beta terms: even and odd triplets summed in separate lanes, then added together
     V2 acc{splat(0.0), splat(0.0), splat(0.0)};
     int u = 0;
@@ -170,11 +189,11 @@ void add_shape_memory_forces(const Model& m, State& s) {
       acc = {add_lane0(acc.x, term.x), add_lane0(acc.y, term.y), add_lane0(acc.z, term.z)};
     }
     if (count > 0) target += Vec3(lane0(acc.x) + lane1(acc.x), lane0(acc.y) + lane1(acc.y), lane0(acc.z) + lane1(acc.z));
-    s.attractor[p] = target;
+    attractor[p] = target;
 
-    const Vec3 F = m.k_e[p] * (target - x[p]);
+    const Vec3 F = k_e[p] * (target - x[p]);
     f[p] += F;
-    for (int a = ns; a < ne; ++a) f[m.nbr[a]] -= m.nbr_w[a] * F;
+    for (int a = ns; a < ne; ++a) f[nbr[a]] -= nbr_w[a] * F;
     if (!gradient) continue;
     const V2 F2{splat(F[0]), splat(F[1]), splat(F[2])};
     for (u = 0; u + 1 < count; u += 2) gradient_terms(beta[bs + u], beta[bs + u + 1], F2, sc + u * kFields, 2, f);

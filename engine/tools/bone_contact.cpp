@@ -1,9 +1,12 @@
-// FCL is confined to this file (heavy headers). Queries use the sphere-triangle distance of
-// FCL's libccd solver, which is analytic for spheres, on a BVHModel<OBBRSS> built once.
+// FCL is confined to this file (heavy headers). The tip is a point probe (a BVHModel holding one
+// triangle a nanometre wide, built once) placed by the query's transform; its distance to the
+// bone's BVHModel<OBBRSS> minus the tip radius is the sphere's distance. Measured: a Sphere
+// shape costs two heap allocations per fcl::distance call (Sphere::getBoundVertices fills a
+// std::vector to fit the shape's bounding volume), mesh-mesh distance none, so the query can
+// run inside a step.
 #include "engine/tools/bone_contact.h"
 
 #include <fcl/geometry/bvh/BVH_model.h>
-#include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/distance.h>
 
 #include <cmath>
@@ -18,9 +21,16 @@ struct BoneContact::Impl {
     Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // body-frame box [m]
   };
   std::vector<Bone> bones;
+  std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> probe;
 };
 
 BoneContact::BoneContact(const Model& m) : impl_(std::make_unique<Impl>()) {
+  impl_->probe = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  const std::vector<fcl::Vector3d> pp = {{0, 0, 0}, {1e-9, 0, 0}, {0, 1e-9, 0}};
+  const std::vector<fcl::Triangle> pt = {{0, 1, 2}};
+  impl_->probe->beginModel(1, 3);
+  impl_->probe->addSubModel(pp, pt);
+  impl_->probe->endModel();
   for (size_t b = 0; b < m.rigid_bodies.size(); ++b) {
     const RigidBody& rb = m.rigid_bodies[b];
     const Component& comp = m.components[rb.component];
@@ -64,16 +74,15 @@ double BoneContact::distance(const State& s, const Vec3& c, double r, double rea
     const Vec3 cl = bs.rot.conjugate() * (c - bs.com);
     const Vec3 out = (bone.lo - cl).cwiseMax(cl - bone.hi).cwiseMax(Vec3::Zero());
     if (out.norm() > reach + r) continue;
-    const fcl::Sphered sphere(r);
-    fcl::Transform3d tf_sphere = fcl::Transform3d::Identity();
-    tf_sphere.translation() = cl;
+    fcl::Transform3d tf_probe = fcl::Transform3d::Identity();
+    tf_probe.translation() = cl;
     fcl::DistanceRequestd req;
     req.enable_nearest_points = true;
     req.enable_signed_distance = false;
     req.gjk_solver_type = fcl::GST_LIBCCD;
     fcl::DistanceResultd res;
-    fcl::distance(bone.mesh.get(), fcl::Transform3d::Identity(), &sphere, tf_sphere, req, res);
-    const double d = std::max(0.0, res.min_distance);
+    fcl::distance(bone.mesh.get(), fcl::Transform3d::Identity(), impl_->probe.get(), tf_probe, req, res);
+    const double d = std::max(0.0, res.min_distance - r);
     if (d < best) {
       best = d;
       if (nearest) *nearest = bs.com + bs.rot * Vec3(res.nearest_points[0]);

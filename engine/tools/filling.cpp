@@ -88,16 +88,15 @@ void FillingTool::resolve(Organ& o, bool constructing) {
       }
       s.slope = r.value;
       const double v_end = v0 + r.value * (r.t1 - r.t0);
-      if (r.value != 0.0 && (v_end < lo || v_end > hi)) {
+      if (r.value != 0.0 && (v_end < lo * (1 - 1e-12) || v_end > hi * (1 + 1e-12))) {
         const double bound = v_end < lo ? lo : hi;
         if (constructing && !r.live)
           throw InputError(file_, r.line, r.field + ".rate_ml_s",
                            fmt("the volume would reach %.4g ml, outside [%.3g, %.3g] ml (0.1x to 10x the rest volume)",
                                v_end / kMl, lo / kMl, hi / kMl));
         const double t_stop = r.t0 + (bound - v0) / r.value;
-        if (std::isfinite(r.t1))
-          reports_.push_back(where(r) + fmt(": stopped at %.4g ml (t=%.4g s) to stay within 0.1x..10x the rest volume",
-                                            bound / kMl, t_stop));
+        reports_.push_back(where(r) + fmt(": stops at %.4g ml (t=%.4g s) to stay within 0.1x..10x the rest volume",
+                                          bound / kMl, t_stop));
         r.t1 = s.t1 = std::max(r.t0, t_stop);
       }
     } else {

@@ -85,6 +85,8 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
   // membrane surfaces: faces incident to each particle (CSR)
   membranes_ = std::make_unique<MembraneFaces>();
   MembraneFaces& mf = *membranes_;
+  mf.sheet.assign(nc, 0);
+  for (int c = 0; c < nc; ++c) mf.sheet[c] = !m.components[c].volumetric;
   for (int c = 0; c < nc; ++c) {
     if (!(puncture_kc_[c] > 0.0) || m.components[c].surface < 0) continue;
     mf.max_puncture = std::max(mf.max_puncture, puncture_kc_[c]);
@@ -193,6 +195,7 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
     nd.next.reserve(n);
     nd.mark.assign(n, 0);
     nd.face_epoch.assign(mf.faces.size(), 0);
+    nd.face_breached.assign(mf.faces.size(), 0);
     nd.entered.assign(nc, 0);
     nd.zone_idx.assign(static_cast<size_t>(nd.node_count) * kZoneCapacity, -1);
     nd.zone_dist.assign(static_cast<size_t>(nd.node_count) * kZoneCapacity, 0.0);
@@ -207,7 +210,7 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
     needle_command(nd, 0.0, nd.T, nd.d, v0);
     // a needle that starts inside a membrane component has already entered it
     for (int c = 0; c < nc; ++c)
-      if (puncture_kc_[c] > 0.0 && m.components[c].surface >= 0 &&
+      if (puncture_kc_[c] > 0.0 && !mf.sheet[c] && m.components[c].surface >= 0 &&
           inside_rest_surface(m, m.surfaces[m.components[c].surface], nd.T))
         nd.entered[c] = 1;
     for (double depth : spec.seed_depths) {
@@ -256,7 +259,7 @@ void NeedleTool::forces(const Model& m, State& s, double dt) {
   for (auto& p : needles_) {
     Needle& nd = *p;
     update_needle_zones(nd, m, s, puncture_kc_, *membranes_, events_);
-    const Vec3 f_tissue = apply_needle_tissue_forces(nd, m, s, puncture_kc_, events_);
+    const Vec3 f_tissue = apply_needle_tissue_forces(nd, m, s, puncture_kc_, *membranes_, events_);
     move_needle(nd, m, s, f_tissue, dt, bone_.get(), events_);
   }
 }

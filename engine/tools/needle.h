@@ -24,13 +24,15 @@
 // Forces (tissue side; the opposite acts on the needle):
 //  * puncture (pre-breach contact): a membrane is a surface, not a set of points, so the tip
 //    presses the entry face (outward normal against d) that the needle axis crosses behind the
-//    tip: P = press_stiffness * (depth of the tip beyond the crossing), along d, shared by the
-//    face's three particles with the crossing's barycentric weights. The needle cannot slip
-//    between particles, and the surface deflects before puncture. The surface is breached when
-//    P reaches the weighted average of the puncture weights (`puncture_n`, eq. 5 with the
-//    barycentric weights): event, and the component counts as entered, so its particles are cut
-//    and rub from then on. Before that, an intact membrane's particles take no cutting or
-//    friction (the needle is outside it).
+//    tip, so it cannot slip between particles: P = press_stiffness * (depth of the tip beyond
+//    the crossing X), along d. The load is shared by the membrane particles of the puncture zone
+//    (the cutting zone before entry, paper §4.2.1): those within R = max(cutting_radius, longest
+//    edge of the crossed face) of X, with weights 1 - (r/R)^2. (Loading only the face's three
+//    particles made a spike so deep and narrow that the lattice under it buckled at ~15 mm.)
+//    The surface deflects before puncture and is breached when P reaches the same weighted
+//    average of the puncture weights (`puncture_n`, eq. 5): event, and the component counts
+//    as entered, so its particles are cut and rub from then on. Before that, an intact
+//    membrane's particles take no cutting or friction (the needle is outside it).
 //  * cutting (eq. 5): C = sum k_c^i/d_i / sum 1/d_i over the cutting zone of entered components,
 //    particle i receives k_c^i (1/d_i) / sum 1/d_j along d. Applied only while the needle moves
 //    forward (ramped in over cut_velocity): no cutting while retracting or at rest. When the tip
@@ -69,8 +71,10 @@ namespace ps {
 class BoneContact;
 struct MembraneFaces;
 
+inline constexpr double kCutFilterTime = 5e-3;  // low-pass of the speed that gates cutting [s]
 inline constexpr int kZoneCapacity = 12;     // particles kept per friction zone (nearest)
 inline constexpr int kCutCapacity = 32;      // particles in the cutting zone
+inline constexpr int kPressCapacity = 48;    // membrane particles sharing the puncture load
 
 enum class NeedlePhase : uint8_t { Outside, Pressing, Inserted, Blocked };
 

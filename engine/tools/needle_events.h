@@ -15,7 +15,7 @@ enum class NeedleEventKind : uint8_t {
   Stick,        // a node's virtual tissue particle went from slip to stick (node)
   Slip,         // ... from stick to slip (node)
   Seed,         // seed deposited (value = seed index; component = -1 when no tissue held it)
-  Core,         // biopsy core taken (value = particles in the notch, force = tumour length [m])
+  Core,         // biopsy core taken (value = particles in the notch; details in NeedleTool::core)
   BoneHit,      // tip stopped by rigid bone (component, position)
   ForceClamped  // coupling force or speed exceeded the needle's limit and was clamped
 };

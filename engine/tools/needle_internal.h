@@ -52,6 +52,7 @@ struct NeedleTool::Needle {
   Vec3 T = Vec3::Zero();           // tip [m]
   Vec3 V = Vec3::Zero();           // [m/s]
   Vec3 d = -Vec3::UnitZ();         // direction (unit)
+  double v_cut = 0.0;              // axial speed low-passed over kCutFilterTime, gates cutting [m/s]
   // command
   bool interactive = false;
   Vec3 cmd_T = Vec3::Zero(), cmd_d = -Vec3::UnitZ(), cmd_V = Vec3::Zero();
@@ -67,13 +68,17 @@ struct NeedleTool::Needle {
   std::array<int, kCutCapacity> cut_idx{};
   std::array<double, kCutCapacity> cut_dist{};
   int cut_n = 0;
-  // pressed surface: the entry face of an intact membrane the needle axis crosses behind the tip
-  int press_n = 0;                       // 1 when pressing, else 0
-  std::array<int, 3> press_idx{};        // face vertices (particles)
-  std::array<double, 3> press_w{};       // barycentric weights of the crossing point
+  // pressed surface: the entry face of an intact membrane the needle axis crosses behind the
+  // tip, and the patch of that membrane's particles around the crossing that shares the load
+  int press_n = 0;                       // particles in the patch (0: not pressing)
+  std::array<int, 3> press_face{};       // crossed face (particles)
+  std::array<int, kPressCapacity> press_idx{};
+  std::array<double, kPressCapacity> press_w{};  // kernel weights, sum 1
   double press_a = 0.0;                  // crossing position along d relative to the tip (< 0) [m]
   int press_component = -1;
   std::vector<uint32_t> face_epoch;      // [faces] last substep a face was tested
+  std::vector<uint8_t> face_breached;    // [faces] sheet faces this needle has torn through
+  int press_face_id = -1;                // index of the crossed face in MembraneFaces
   uint32_t epoch = 0;
   // virtual tissue particles
   std::vector<AffineAnchor> anchors;     // [node_count]
@@ -103,6 +108,7 @@ struct NeedleTool::Needle {
 struct MembraneFaces {
   std::vector<std::array<int, 3>> faces;   // outward CCW particle triples
   std::vector<int> face_component;         // [faces]
+  std::vector<uint8_t> sheet;              // [components] surface-only (wall) component
   std::vector<int> start;                  // [n+1] CSR: faces incident to particle p
   std::vector<int> list;
   double max_puncture = 0.0;               // largest puncture weight [N]
@@ -114,7 +120,7 @@ void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s,
 // needle_forces.cpp: Algorithm 2 per node: tissue forces, virtual elastic force, stick/slip;
 // returns the tissue reaction on the needle [N]
 Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s, const std::vector<double>& puncture_kc,
-                                NeedleEventRing& events);
+                                const MembraneFaces& mf, NeedleEventRing& events);
 // needle_motion.cpp: commanded pose at time t
 void needle_command(const NeedleTool::Needle& nd, double t, Vec3& tip, Vec3& dir, Vec3& vel);
 // needle_motion.cpp: computeNeedleMovement + adjustIntensityNeedleVelocity + bone stop

@@ -107,6 +107,8 @@ void move_needle(NeedleTool::Needle& nd, const Model& m, State& s, const Vec3& f
   nd.clamping = clamped;
   nd.T += step;
   nd.V = V_new;
+  const double a = std::min(1.0, dt / kCutFilterTime);
+  nd.v_cut += a * (V_new.dot(d_cmd) - nd.v_cut);
   nd.d = d_cmd;
   nd.ro.coupling_force = F_c;
   nd.ro.command_tip = T_cmd;

@@ -91,55 +91,101 @@ void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s,
   nd.stats.visited = visited;
   nd.stats.plan_checked = plan_checked;
 
-  // 4. classify the tube into the zones
-  for (int j = 0; j < nd.node_count; ++j) nd.zone_n[j] = 0;
-  nd.cut_n = 0;
+  // 4. the puncture zone: the nearest membrane face the axis crosses behind the tip. A volume
+  // resists at its entry faces until it is entered; a sheet (a wall modelled as a surface:
+  // rectum, bladder) from either side and again at its far wall, one torn hole at a time.
   nd.press_n = 0;
   nd.press_a = -press_reach;
   ++nd.epoch;
+  for (int p : nd.tracked) {
+    const int c = m.component_of[p];
+    const bool sheet = mf.sheet[c] != 0;
+    if (!(puncture_kc[c] > 0.0) || !m.on_surface[p] || (!sheet && nd.entered[c])) continue;
+    for (int k = mf.start[p]; k < mf.start[p + 1]; ++k) {
+      const int f = mf.list[k];
+      if (nd.face_epoch[f] == nd.epoch) continue;
+      nd.face_epoch[f] = nd.epoch;
+      if (sheet && nd.face_breached[f]) continue;
+      const auto& fc = mf.faces[f];
+      const Vec3 &A = s.x[fc[0]], &B = s.x[fc[1]], &C = s.x[fc[2]];
+      const Vec3 e1 = B - A, e2 = C - A;
+      if (!sheet && !(e1.cross(e2).dot(d) < 0.0)) continue;  // exit face or edge-on
+      // axis T + t d through the triangle (Moller-Trumbore); t is the crossing's axial position
+      const Vec3 pv = d.cross(e2);
+      const double det = e1.dot(pv);
+      if (std::abs(det) < 1e-30) continue;
+      const double inv = 1.0 / det;
+      const Vec3 tv = T - A;
+      const double u = tv.dot(pv) * inv;
+      const Vec3 qv = tv.cross(e1);
+      const double v = d.dot(qv) * inv;
+      constexpr double tol = 1e-9;  // shared edges: a crossing is never lost between two faces
+      if (u < -tol || v < -tol || u + v > 1.0 + tol) continue;
+      const double t = e2.dot(qv) * inv;
+      if (t >= 0.0 || t < nd.press_a) continue;  // ahead of the tip, or not the nearest behind it
+      nd.press_n = 1;
+      nd.press_a = t;
+      nd.press_face = fc;
+      nd.press_face_id = f;
+      nd.press_component = mf.face_component[f];
+    }
+  }
+  // the membrane particles around the crossing share the press load (weights 1 - (r/R)^2)
+  Vec3 X_press = Vec3::Zero();
+  double R2_press = 0.0;
+  if (nd.press_n > 0) {
+    X_press = T + nd.press_a * d;
+    const auto& fc = nd.press_face;
+    double R = nd.Rc;
+    for (int i = 0; i < 3; ++i) R = std::max(R, (s.x[fc[i]] - s.x[fc[(i + 1) % 3]]).norm());
+    R2_press = R * R;
+    nd.press_n = 0;
+    double W = 0.0;
+    for (int p : nd.tracked) {
+      if (m.component_of[p] != nd.press_component || !m.on_surface[p]) continue;
+      const double r2 = (s.x[p] - X_press).squaredNorm();
+      if (r2 >= R2_press) continue;
+      const double w = 1.0 - r2 / R2_press;
+      if (nd.press_n < kPressCapacity) {
+        nd.press_idx[nd.press_n] = p;
+        nd.press_w[nd.press_n] = w;
+        ++nd.press_n;
+      } else {
+        int low = 0;
+        for (int i = 1; i < nd.press_n; ++i)
+          if (nd.press_w[i] < nd.press_w[low]) low = i;
+        if (w <= nd.press_w[low]) continue;
+        W -= nd.press_w[low];
+        nd.press_idx[low] = p;
+        nd.press_w[low] = w;
+      }
+      W += w;
+    }
+    if (nd.press_n == 0 || !(W > 0.0)) {
+      nd.press_n = 0;  // cannot happen with the face's own vertices inside R; kept safe
+    } else {
+      for (int i = 0; i < nd.press_n; ++i) nd.press_w[i] /= W;
+    }
+  }
+
+  // 5. cutting and friction zones
+  for (int j = 0; j < nd.node_count; ++j) nd.zone_n[j] = 0;
+  nd.cut_n = 0;
   const double Rc2 = nd.Rc * nd.Rc;
   for (int p : nd.tracked) {
+    const int c = m.component_of[p];
+    const bool membrane = puncture_kc[c] > 0.0;
+    const bool sheet = mf.sheet[c] != 0;
+    // an intact volume's particles take nothing until it is entered (the needle is outside)
+    if (membrane && !sheet && !nd.entered[c]) continue;
+    // the pressed patch of a wall is pushed, not rubbed
+    if (membrane && sheet && nd.press_n > 0 && c == nd.press_component && (s.x[p] - X_press).squaredNorm() < R2_press)
+      continue;
     const Vec3 rel = s.x[p] - T;
     const double a = rel.dot(d);
     const double dist2 = rel.squaredNorm();
-    const int c = m.component_of[p];
-    if (puncture_kc[c] > 0.0 && !nd.entered[c]) {
-      // intact membrane: its particles take no cutting or friction; its entry faces around the
-      // axis are tested for the tip pressing them
-      if (!m.on_surface[p]) continue;
-      for (int k = mf.start[p]; k < mf.start[p + 1]; ++k) {
-        const int f = mf.list[k];
-        if (nd.face_epoch[f] == nd.epoch) continue;
-        nd.face_epoch[f] = nd.epoch;
-        const auto& fc = mf.faces[f];
-        const Vec3 &A = s.x[fc[0]], &B = s.x[fc[1]], &C = s.x[fc[2]];
-        const Vec3 e1 = B - A, e2 = C - A;
-        const Vec3 nrm = e1.cross(e2);
-        if (!(nrm.dot(d) < 0.0)) continue;  // exit face or edge-on: the tip does not push it
-        // axis T + t d through the triangle (Moller-Trumbore); t is the crossing's axial position
-        const Vec3 pv = d.cross(e2);
-        const double det = e1.dot(pv);
-        if (std::abs(det) < 1e-30) continue;
-        const double inv = 1.0 / det;
-        const Vec3 tv = T - A;
-        const double u = tv.dot(pv) * inv;
-        const Vec3 qv = tv.cross(e1);
-        const double v = d.dot(qv) * inv;
-        constexpr double tol = 1e-9;  // shared edges: a crossing is never lost between two faces
-        if (u < -tol || v < -tol || u + v > 1.0 + tol) continue;
-        const double t = e2.dot(qv) * inv;
-        if (t >= 0.0 || t < nd.press_a) continue;  // ahead of the tip, or not the nearest behind it
-        const double uc = std::clamp(u, 0.0, 1.0), vc = std::clamp(v, 0.0, 1.0);
-        const double sum = std::max(1.0, uc + vc);
-        nd.press_n = 1;
-        nd.press_a = t;
-        nd.press_idx = fc;
-        nd.press_w = {1.0 - (uc + vc) / sum, uc / sum, vc / sum};
-        nd.press_component = mf.face_component[f];
-      }
-      continue;
-    }
     if (a >= 0.0) {
+      if (membrane && sheet) continue;  // walls are punctured, not cut
       if (dist2 <= Rc2) keep_nearest(nd.cut_idx, nd.cut_dist, nd.cut_n, p, std::sqrt(dist2));
       continue;
     }

@@ -109,7 +109,7 @@ ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), recta
   }
   for (int p = 0; p < m.particle_count(); ++p) {
     const Component& comp = m.components[m.component_of[p]];
-    if (comp.kind == ComponentKind::Rigid) continue;
+    if (!in_set[m.component_of[p]]) continue;  // tissue the probe is not asked to push may overlap
     const double d = capsule_signed_distance(cap, m.rest_pos[p]);
     if (d < -kProbePenetrationTolerance)
       fail(spec.pose_loc.line, "probe.pose",
@@ -179,8 +179,8 @@ ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), recta
       fail(line, "probe.contact.couple_distance_mm",
            "no particle of '" + P.name + "' lies within " + mm(dist) + " of '" + R.name +
                "' at rest: the imposed mode needs the prostate to touch the rectum");
-    acc_.assign(target_.size(), Vec3::Zero());
-    cnt_.assign(target_.size(), 0);
+    local_.assign(target_.size(), Vec3::Zero());
+    coupled_.assign(target_.size(), 0);
     touched_.assign(target_.size(), 0);
   }
 }
@@ -273,28 +273,32 @@ double ProbeTool::contact_pass(const Model& m, State& s, double inv_dt2) {
 }
 
 void ProbeTool::imposed_pass(const Model& m, State& s, double inv_dt2) {
+  // prostate particles coupled to a rectum particle the probe holds this substep ride rigidly on
+  // the probe from the moment the coupling starts (kinematic: their motion is the probe's)
   int nt = 0;
   const size_t nc = cand_.size();
   for (size_t i = 0; i < nc; ++i) {
-    if (!hit_[i] || couple_start_[i] == couple_start_[i + 1]) continue;
-    const int p = cand_[i];
-    const Vec3 u = s.x[p] - m.rest_pos[p];
+    if (!hit_[i]) continue;
     for (int k = couple_start_[i]; k < couple_start_[i + 1]; ++k) {
       const int slot = couple_slot_[k];
-      if (cnt_[slot] == 0) touched_[nt++] = slot;
-      acc_[slot] += u;
-      ++cnt_[slot];
+      if (!touched_[slot]) { touched_[slot] = 1; ++nt; }
     }
   }
-  for (int k = 0; k < nt; ++k) {
-    const int slot = touched_[k];
+  const Vec3& o = frame_.capsule.tip;
+  const Mat3& R = frame_.rot;
+  const size_t ns = target_.size();
+  for (size_t slot = 0; slot < ns; ++slot) {
+    if (!touched_[slot]) { coupled_[slot] = 0; continue; }  // released: free tissue again
+    touched_[slot] = 0;
     const int t = target_[slot];
-    const Vec3 xn = m.rest_pos[t] + acc_[slot] / cnt_[slot];
+    if (!coupled_[slot]) {  // coupling starts where the particle is: no jump
+      local_[slot] = R.transpose() * (s.x[t] - o);
+      coupled_[slot] = 1;
+    }
+    const Vec3 xn = o + R * local_[slot];
     add_reaction(xn, xn - s.x[t], m.mass[t], inv_dt2);
     s.x[t] = xn;
     s.contact[t] = 7;
-    acc_[slot].setZero();
-    cnt_[slot] = 0;
   }
   imposed_ = std::max(imposed_, nt);
 }

@@ -1,0 +1,101 @@
+// Virtual tissue particle coordinates (AffineAnchor): discrete deformation coordinates with
+// enough non-collinear particles, translation-only fallback with fewer, force continuity on
+// re-anchoring, momentum-conserving reaction; and the fallback inside a running needle.
+#include "engine/tools/needle_anchor.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "tests/engine/tools/needle_scenes.h"
+
+namespace ps {
+namespace {
+
+std::vector<Vec3> cloud() {
+  return {Vec3(0, 0, 0), Vec3(2e-3, 0, 0.3e-3), Vec3(0, 2e-3, -0.2e-3), Vec3(0.1e-3, 0.2e-3, 2e-3), Vec3(2e-3, 2e-3, 1e-3),
+          Vec3(-1e-3, 1e-3, 1e-3)};
+}
+
+TEST(AffineAnchor, FullCoordinatesReproduceThePointAndFollowRigidMotion) {
+  std::vector<Vec3> x = cloud();
+  const int ids[] = {0, 1, 2, 3, 4, 5};
+  const Vec3 X(0.7e-3, 0.6e-3, 0.5e-3);
+  AffineAnchor a;
+  a.build(X, ids, 6, x, X);
+  ASSERT_TRUE(a.rotational);
+  EXPECT_LT((a.evaluate(x) - X).norm(), 1e-15);
+  EXPECT_LT(a.offset.norm(), 1e-12) << "discrete coordinates alone reproduce the point";
+  double wsum = 0;
+  for (int i = 0; i < a.count; ++i) wsum += a.w[i];
+  EXPECT_NEAR(wsum, 1.0, 1e-12);
+  // rigid rotation + translation of the particles carries the attractor along exactly
+  const Mat3 R = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  const Vec3 t(1e-3, -2e-3, 0.5e-3);
+  for (Vec3& p : x) p = R * p + t;
+  EXPECT_LT((a.evaluate(x) - (R * X + t)).norm(), 1e-12);
+}
+
+TEST(AffineAnchor, FewerThanThreeNonCollinearParticlesFallBackToTranslation) {
+  // one particle: rigid attachment; two, or three on a line: no valid triplet
+  for (int n : {1, 2, 3}) {
+    std::vector<Vec3> x = {Vec3(0, 0, 0), Vec3(2e-3, 0, 0), Vec3(4e-3, 0, 0)};
+    const int ids[] = {0, 1, 2};
+    const Vec3 X(1e-3, 1e-3, 0);
+    AffineAnchor a;
+    a.build(X, ids, n, x, X);
+    ASSERT_TRUE(a.valid());
+    EXPECT_FALSE(a.rotational) << n;
+    EXPECT_LT((a.evaluate(x) - X).norm(), 1e-15);
+    for (Vec3& p : x) p += Vec3(0.5e-3, -1e-3, 2e-3);  // the tissue translates
+    EXPECT_LT((a.evaluate(x) - (X + Vec3(0.5e-3, -1e-3, 2e-3))).norm(), 1e-15) << n;
+  }
+}
+
+TEST(AffineAnchor, RebuildingKeepsTheAttractorAndTheReactionConservesMomentum) {
+  std::vector<Vec3> x = cloud();
+  const int ids[] = {0, 1, 2, 3, 4, 5};
+  const Vec3 X(0.7e-3, 0.6e-3, 0.5e-3);
+  AffineAnchor a;
+  a.build(X, ids, 4, x, X);
+  x[1] += Vec3(0.3e-3, 0.1e-3, -0.2e-3);  // deform
+  const Vec3 before = a.evaluate(x);
+  a.build(X, ids + 2, 4, x, before);   // other particles, attractor kept
+  EXPECT_LT((a.evaluate(x) - before).norm(), 1e-15);
+  std::vector<Vec3> f(x.size(), Vec3::Zero());
+  const Vec3 F(0.1, -0.2, 0.05);
+  a.add_reaction(f, x, F);
+  Vec3 sum = Vec3::Zero();
+  for (const Vec3& v : f) sum += v;
+  EXPECT_LT((sum + F).norm(), 1e-12) << "tissue receives exactly -F";
+}
+
+TEST(NeedleFriction, ZonesWithOneOrTwoParticlesUseTheTranslationFallbackAndStillHold) {
+  // needle exactly on a lattice column with friction zones smaller than the spacing: each node
+  // zone holds the one or two column particles only (collinear): translation-only anchors
+  test::BlockOptions o;
+  o.young_kpa = 15;
+  auto s = test::make_needle_scene(test::block_yaml(
+      o, test::vertical_needle("n", 0, 0, "[[0, 0], [0.8, 14], [1.2, 14], [1.8, 11]]",
+                               "      friction_radius_mm: 2.5\n      cutting_radius_mm: 4\n")));
+  ASSERT_FALSE(s.tool->warnings().empty()) << "a friction radius under the spacing is warned about";
+  for (int i = 0; i < 1200; ++i) ASSERT_TRUE(s.sim->tick()) << s.sim->state().fault.describe(*s.model);
+  int engaged = 0, fallback = 0;
+  for (int j = 0; j < 8; ++j) {
+    const auto z = s.tool->zone_particles(0, j);
+    if (z.empty()) continue;
+    ++engaged;
+    EXPECT_LE(z.size(), 2u) << "node " << j;
+    fallback += !s.tool->node_anchor_rotational(0, j);
+  }
+  EXPECT_GE(engaged, 3);
+  EXPECT_EQ(fallback, engaged);
+  EXPECT_GT(s.tool->readout(0).friction_force, 0.05) << "held still: static friction holds the tissue";
+  // pulled back: still finite, friction opposes the pull
+  for (int i = 0; i < 600; ++i) ASSERT_TRUE(s.sim->tick()) << s.sim->state().fault.describe(*s.model);
+  EXPECT_LT(s.tool->readout(0).friction_force, 0.0);
+  EXPECT_LT(max_speed(s.sim->state()), 1.0);
+}
+
+}  // namespace
+}  // namespace ps
