@@ -8,6 +8,9 @@
 #include "engine/io/output.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
+#include "engine/tools/filling.h"
+#include "engine/tools/needle.h"
+#include "engine/tools/probe.h"
 
 namespace ps::app {
 
@@ -35,6 +38,12 @@ void add_simulate_command(CLI::App& app, Runner& run) {
       CompileReport rep;
       auto model = compile_scenario(spec, &rep);
       Simulation sim(model);
+      // instruments of the scene: each joins the pipeline only when its section is present
+      ProbeTool* probe = nullptr;
+      FillingTool* filling = nullptr;
+      if (auto t = make_needle_tool(model, spec.needles)) sim.add_tool(std::move(t));
+      if (auto t = make_probe_tool(spec, *model)) { probe = t.get(); sim.add_tool(std::move(t)); }
+      if (auto t = make_filling_tool(spec, *model)) { filling = t.get(); sim.add_tool(std::move(t)); }
       RunOptions opt;
       opt.duration = args->duration > 0 ? args->duration : (args->until_rest ? std::max(60.0, model->duration) : model->duration);
       opt.until_rest = args->until_rest;
@@ -57,6 +66,8 @@ void add_simulate_command(CLI::App& app, Runner& run) {
                   spec.name.c_str(), static_cast<long long>(r.steps), r.sim_time, r.wall_time, r.kinetic_energy, r.max_speed);
       for (const auto& [c, e] : r.volume_error) std::printf("  volume error %-12s %.3g\n", c.c_str(), e);
       for (const auto& w : r.warnings) std::printf("  warning: %s\n", w.c_str());
+      if (probe) for (const auto& w : probe->reports()) std::printf("  probe: %s\n", w.c_str());
+      if (filling) for (const auto& w : filling->reports()) std::printf("  filling: %s\n", w.c_str());
       std::printf("wrote %s{particles.csv,summary.json,<component>.obj}\n", dir.c_str());
       return kExitOk;
     };
