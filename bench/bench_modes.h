@@ -5,6 +5,12 @@
 
 #include "engine/step/simulation.h"
 
+namespace ps::detail {
+// engine/step/shape_memory.cpp: the stage's x86-64-baseline build, which add_shape_memory_forces()
+// runs on CPUs without AVX (declared here only: nothing outside the bench should pick a build).
+void add_shape_memory_forces_baseline(const Model& m, State& s);
+}  // namespace ps::detail
+
 namespace ps::bench {
 
 int print_info();                                   // modes.cpp

@@ -1,5 +1,6 @@
 // Single stages on a warmed (deformed) state, repeated: the shape-memory stage (optimised and the
-// pre-optimisation reference copy, same binary, so their ratio is the speed-up) and the check.
+// pre-optimisation reference copy, same binary, so their ratio is the speed-up; also its
+// x86-64-baseline build, which CPUs without AVX run) and the check.
 // Both only read positions, so repeating them keeps the state representative.
 #include <benchmark/benchmark.h>
 
@@ -36,11 +37,13 @@ void BM_Check(benchmark::State& state, const char* scene) {
 
 constexpr auto kOpt = BM_ShapeMemoryImpl<add_shape_memory_forces>;
 constexpr auto kRef = BM_ShapeMemoryImpl<reference_add_shape_memory_forces>;
+constexpr auto kBase = BM_ShapeMemoryImpl<detail::add_shape_memory_forces_baseline>;
 
 BENCHMARK_CAPTURE(kOpt, cube11, "cube11")->Name("BM_ShapeMemory/cube11")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kRef, cube11, "cube11")->Name("BM_ShapeMemoryReference/cube11")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kOpt, cube22, "cube22")->Name("BM_ShapeMemory/cube22")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kRef, cube22, "cube22")->Name("BM_ShapeMemoryReference/cube22")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(kBase, cube11, "cube11")->Name("BM_ShapeMemoryBaselineBuild/cube11")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kOpt, cyl, "cyl")->Name("BM_ShapeMemory/cyl")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kRef, cyl, "cyl")->Name("BM_ShapeMemoryReference/cyl")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Check, cube11, "cube11")->Unit(benchmark::kMicrosecond);

@@ -49,7 +49,7 @@ struct State {
   std::vector<double> triplet_scratch;  // scratch of the shape-memory stage: per beta triplet of
                                         // one particle its edges, normal, b/|n| and 1/|n|^2
                                         // (kTripletScratchFields x capacity, capacity = the most
-                                        // triplets of any particle rounded up to even)
+                                        // triplets of any particle rounded up to a multiple of 4)
   StepFault fault;
   int64_t clamp_count = 0;         // times a safety clamp acted
 };

@@ -12,16 +12,23 @@
 // normal's derivative: the force is then exactly -grad of sum 1/2 k_e |P* - P|^2, conserves
 // linear and angular momentum, and is stable below the explicit limit.
 //
-// Speed (docs/performance.md): this stage is ~80-95% of a step. The beta triplets of a particle
-// are processed two at a time in SSE2 lanes (x86-64 baseline, no -march needed): one square root
-// and one division per triplet instead of five long-latency operations, and the gradient pass
-// reuses the edges, normal, b/|n| and 1/|n|^2 the attractor pass left in State::triplet_scratch.
-// Every lane does the same IEEE operations in the same order as the scalar fallback (a lone
-// last triplet runs in lane 0 with a copy of itself in lane 1, which is discarded), so results
-// do not depend on the pairing or on SSE2 being present. Force scatters keep the original
-// order (triplet by triplet, j then k then i).
+// Speed (docs/performance.md): this stage is ~90% of a step. The beta triplets of a particle are
+// processed four at a time, one per lane of a 4-double vector (GCC vector extension): one square
+// root and one division per triplet instead of five long-latency operations, and the gradient
+// pass reuses the edges, normal, b/|n| and 1/|n|^2 that the attractor pass left in
+// State::triplet_scratch. The same source is compiled twice: with AVX (256-bit registers, picked
+// at run time when the CPU has it) and for the x86-64 baseline (each vector op becomes two SSE2
+// ops). Lanes only ever do IEEE +, -, *, / and sqrt, "avx" brings no FMA, and the lane layout is
+// the same in both builds, so both give bit-identical forces (prostatesim_bench --verify checks
+// it); a last, partial group fills its unused lanes with copies of a valid triplet and discards
+// them. Force scatters keep the original order (triplet by triplet, j then k then i); the beta
+// terms of P* are summed per lane (triplets t = 0,4,8,... in lane 0, ...) and the four lane sums
+// added as (l0 + l1) + (l2 + l3).
 
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
 
 #include "engine/step/stages.h"
 
@@ -29,127 +36,206 @@
 #include <emmintrin.h>
 #endif
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#define PS_AVX_DISPATCH 1
+#else
+#define PS_AVX_DISPATCH 0
+#endif
+
+// 32-byte vectors are only passed inside always-inlined helpers; GCC's note that their argument
+// ABI changed long ago does not concern this file.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 namespace ps {
 
 namespace {
 
-// Two doubles, one per lane (a triplet each).
-#if defined(__SSE2__)
-struct D2 { __m128d v; };
-inline D2 pair(double a, double b) { return {_mm_set_pd(b, a)}; }
-inline D2 splat(double a) { return {_mm_set1_pd(a)}; }
-inline D2 load(const double* p) { return {_mm_loadu_pd(p)}; }
-inline void store(double* p, D2 a) { _mm_storeu_pd(p, a.v); }
-inline D2 operator+(D2 a, D2 b) { return {_mm_add_pd(a.v, b.v)}; }
-inline D2 operator-(D2 a, D2 b) { return {_mm_sub_pd(a.v, b.v)}; }
-inline D2 operator*(D2 a, D2 b) { return {_mm_mul_pd(a.v, b.v)}; }
-// 1/sqrt(x) where x > 0, else 0 (a triangle crushed flat, or NaN: no normal, term dropped)
-inline D2 inv_sqrt_or_zero(D2 x) {
-  const __m128d ok = _mm_cmpgt_pd(x.v, _mm_setzero_pd());
-  return {_mm_and_pd(ok, _mm_div_pd(_mm_set1_pd(1.0), _mm_sqrt_pd(x.v)))};
-}
-inline D2 add_lane0(D2 acc, D2 x) { return {_mm_add_sd(acc.v, x.v)}; }
-inline double lane0(D2 a) { return _mm_cvtsd_f64(a.v); }
-inline double lane1(D2 a) { return _mm_cvtsd_f64(_mm_unpackhi_pd(a.v, a.v)); }
-// f[q] += sign * (x, y, z) of one lane; xy as one packed add
-template <int Lane, bool Subtract>
-inline void scatter(double* fq, D2 x, D2 y, D2 z) {
-  const __m128d xy = Lane == 0 ? _mm_unpacklo_pd(x.v, y.v) : _mm_unpackhi_pd(x.v, y.v);
-  const __m128d old = _mm_loadu_pd(fq);
-  _mm_storeu_pd(fq, Subtract ? _mm_sub_pd(old, xy) : _mm_add_pd(old, xy));
-  const double zl = Lane == 0 ? lane0(z) : lane1(z);
-  fq[2] = Subtract ? fq[2] - zl : fq[2] + zl;
-}
-#else
-struct D2 { double a, b; };
-inline D2 pair(double a, double b) { return {a, b}; }
-inline D2 splat(double a) { return {a, a}; }
-inline D2 load(const double* p) { return {p[0], p[1]}; }
-inline void store(double* p, D2 x) { p[0] = x.a; p[1] = x.b; }
-inline D2 operator+(D2 x, D2 y) { return {x.a + y.a, x.b + y.b}; }
-inline D2 operator-(D2 x, D2 y) { return {x.a - y.a, x.b - y.b}; }
-inline D2 operator*(D2 x, D2 y) { return {x.a * y.a, x.b * y.b}; }
-inline double inv_sqrt_or_zero1(double x) { return x > 0.0 ? 1.0 / std::sqrt(x) : 0.0; }
-inline D2 inv_sqrt_or_zero(D2 x) { return {inv_sqrt_or_zero1(x.a), inv_sqrt_or_zero1(x.b)}; }
-inline D2 add_lane0(D2 acc, D2 x) { return {acc.a + x.a, acc.b}; }
-inline double lane0(D2 x) { return x.a; }
-inline double lane1(D2 x) { return x.b; }
-template <int Lane, bool Subtract>
-inline void scatter(double* fq, D2 x, D2 y, D2 z) {
-  const double v[3] = {Lane == 0 ? x.a : x.b, Lane == 0 ? y.a : y.b, Lane == 0 ? z.a : z.b};
-  for (int c = 0; c < 3; ++c) fq[c] = Subtract ? fq[c] - v[c] : fq[c] + v[c];
-}
-#endif
+#define PS_INLINE [[gnu::always_inline]] inline
 
-// Two builds of the stage, picked once at load time by the CPU: the AVX one runs the same SSE2
-// operations VEX-encoded (three-operand, memory operands need no alignment: ~17% fewer
-// instructions). "avx" brings no FMA, so both builds round identically (bit-identical states;
-// never widen this to a target with FMA, or contraction would change results by machine).
-#if defined(__x86_64__) && defined(__GNUC__) && defined(__ELF__)
-#define PS_SIMD_CLONES __attribute__((target_clones("avx", "default")))
-#else
-#define PS_SIMD_CLONES
-#endif
+// N doubles (one triplet per lane), its lane mask type, and an unaligned alias for loads/stores.
+template <int N> struct Pack;
+template <> struct Pack<2> {
+  typedef double D __attribute__((vector_size(16)));
+  typedef int64_t M __attribute__((vector_size(16)));
+  typedef double U __attribute__((vector_size(16), aligned(8)));
+  static constexpr M iota{0, 1};
+};
+template <> struct Pack<4> {
+  typedef double D __attribute__((vector_size(32)));
+  typedef int64_t M __attribute__((vector_size(32)));
+  typedef double U __attribute__((vector_size(32), aligned(8)));
+  static constexpr M iota{0, 1, 2, 3};
+};
 
-struct V2 { D2 x, y, z; };  // a 3-vector per lane
-inline V2 operator-(const V2& a, const V2& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline V2 cross(const V2& a, const V2& b) {
+template <int N> using D = typename Pack<N>::D;
+template <int N> using M = typename Pack<N>::M;
+template <int N> struct V { D<N> x, y, z; };  // a 3-vector per lane
+
+template <int N> PS_INLINE D<N> splat(double a) { return D<N>{} + a; }
+template <int N> PS_INLINE D<N> load(const double* p) { return *reinterpret_cast<const typename Pack<N>::U*>(p); }
+template <int N> PS_INLINE void store(double* p, const D<N>& v) { *reinterpret_cast<typename Pack<N>::U*>(p) = v; }
+template <int N> PS_INLINE V<N> operator-(const V<N>& a, const V<N>& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+template <int N> PS_INLINE V<N> cross(const V<N>& a, const V<N>& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-inline V2 gather(const Vec3* x, int a, int b) {
-  return {pair(x[a][0], x[b][0]), pair(x[a][1], x[b][1]), pair(x[a][2], x[b][2])};
+
+// two lanes from two addresses: one load + one load-high
+PS_INLINE D<2> pair_at(const double* a, const double* b) {
+#if defined(__SSE2__)
+  const __m128d v = _mm_loadh_pd(_mm_load_sd(a), b);
+  return D<2>{v[0], v[1]};
+#else
+  return D<2>{*a, *b};
+#endif
+}
+PS_INLINE D<2> sqrt2(const D<2>& v) {
+#if defined(__SSE2__)
+  const __m128d r = _mm_sqrt_pd(__m128d{v[0], v[1]});
+  return D<2>{r[0], r[1]};
+#else
+  return D<2>{std::sqrt(v[0]), std::sqrt(v[1])};
+#endif
+}
+template <int N> PS_INLINE D<N> sqrt_lanes(const D<N>& v) {
+  if constexpr (N == 2) {
+    return sqrt2(v);
+  } else {
+    const D<2> lo = sqrt2(D<2>{v[0], v[1]}), hi = sqrt2(D<2>{v[2], v[3]});
+    return D<4>{lo[0], lo[1], hi[0], hi[1]};
+  }
+}
+// 1/sqrt(v) where v > 0, else 0 (a triangle crushed flat, or NaN: no normal, term dropped)
+template <int N> PS_INLINE D<N> inv_sqrt_or_zero(const D<N>& v) {
+  const M<N> ok = v > splat<N>(0.0);
+  return reinterpret_cast<D<N>>(reinterpret_cast<M<N>>(splat<N>(1.0) / sqrt_lanes<N>(v)) & ok);
 }
 
-// State::triplet_scratch holds one block of kTripletScratchFields pairs of doubles per pair of
-// triplets of the particle at hand (the block of triplets 2q, 2q+1 starts at 2 q kFields); these
-// are the fields of a block, each one D2.
+// The (up to) N triplets of one group; unused lanes repeat the last real triplet. Plain members
+// rather than an array keep the pointers in registers.
+template <int N> struct Group {
+  const BetaTriplet *t0, *t1, *t2, *t3;  // t2, t3 only for N = 4
+  PS_INLINE Group(const BetaTriplet* first, int lanes)
+      : t0(first), t1(first + (lanes > 1 ? 1 : 0)), t2(first + (lanes > 2 ? 2 : lanes - 1)),
+        t3(first + (lanes > 3 ? 3 : lanes - 1)) {}
+};
+
+// lane l from the double at byte offset `off` in the l-th object
+template <int N, class T>
+PS_INLINE D<N> lanes_at(const T* a, const T* b, const T* c, const T* d, size_t off) {
+  auto at = [off](const T* o) { return reinterpret_cast<const double*>(reinterpret_cast<const char*>(o) + off); };
+  if constexpr (N == 2) {
+    return pair_at(at(a), at(b));
+  } else {
+    const D<2> lo = pair_at(at(a), at(b)), hi = pair_at(at(c), at(d));
+    return D<4>{lo[0], lo[1], hi[0], hi[1]};
+  }
+}
+
+template <int N> PS_INLINE V<N> gather(const Vec3* x, const Group<N>& g, int BetaTriplet::*vertex) {
+  const Vec3 *a = &x[g.t0->*vertex], *b = &x[g.t1->*vertex], *c = &x[g.t2->*vertex], *d = &x[g.t3->*vertex];
+  return {lanes_at<N>(a, b, c, d, 0), lanes_at<N>(a, b, c, d, sizeof(double)),
+          lanes_at<N>(a, b, c, d, 2 * sizeof(double))};
+}
+
+// State::triplet_scratch holds one block of kTripletScratchFields x N doubles per group of N
+// triplets of the particle at hand; these are the fields of a block, each one D<N>.
 enum Field { EjX, EjY, EjZ, EkX, EkY, EkZ, NX, NY, NZ, Scale, InvLen2 };
 constexpr int kFields = kTripletScratchFields;
 static_assert(InvLen2 + 1 == kFields);
 
-// Attractor pass for triplets t (lane 0) and u (lane 1) at scratch slot `slot`: returns
-// b n/|n| per lane and leaves the values the gradient pass needs in the scratch.
-[[gnu::always_inline]] inline V2 attractor_terms(const BetaTriplet& t, const BetaTriplet& u, const Vec3* x, double* blk) {
-  const V2 xi = gather(x, t.i, u.i);
-  const V2 ej = gather(x, t.j, u.j) - xi;
-  const V2 ek = gather(x, t.k, u.k) - xi;
-  const V2 n = cross(ej, ek);
-  const D2 inv_len = inv_sqrt_or_zero(n.x * n.x + n.y * n.y + n.z * n.z);
-  const D2 scale = pair(t.b, u.b) * inv_len;  // b/|n| [1]
-  store(blk + 2 * EjX, ej.x); store(blk + 2 * EjY, ej.y); store(blk + 2 * EjZ, ej.z);
-  store(blk + 2 * EkX, ek.x); store(blk + 2 * EkY, ek.y); store(blk + 2 * EkZ, ek.z);
-  store(blk + 2 * NX, n.x); store(blk + 2 * NY, n.y); store(blk + 2 * NZ, n.z);
-  store(blk + 2 * Scale, scale);
-  store(blk + 2 * InvLen2, inv_len * inv_len);
+// Attractor pass for one group: returns b n/|n| per lane and leaves what the gradient pass needs
+// in the block.
+template <int N> PS_INLINE V<N> attractor_terms(const Group<N>& g, const Vec3* x, double* blk) {
+  const V<N> xi = gather<N>(x, g, &BetaTriplet::i);
+  const V<N> ej = gather<N>(x, g, &BetaTriplet::j) - xi;
+  const V<N> ek = gather<N>(x, g, &BetaTriplet::k) - xi;
+  const V<N> n = cross(ej, ek);
+  const D<N> inv_len = inv_sqrt_or_zero<N>(n.x * n.x + n.y * n.y + n.z * n.z);
+  const D<N> scale = lanes_at<N>(g.t0, g.t1, g.t2, g.t3, offsetof(BetaTriplet, b)) * inv_len;  // b/|n| [1]
+  store<N>(blk + N * EjX, ej.x); store<N>(blk + N * EjY, ej.y); store<N>(blk + N * EjZ, ej.z);
+  store<N>(blk + N * EkX, ek.x); store<N>(blk + N * EkY, ek.y); store<N>(blk + N * EkZ, ek.z);
+  store<N>(blk + N * NX, n.x); store<N>(blk + N * NY, n.y); store<N>(blk + N * NZ, n.z);
+  store<N>(blk + N * Scale, scale);
+  store<N>(blk + N * InvLen2, inv_len * inv_len);
   return {scale * n.x, scale * n.y, scale * n.z};
 }
 
-// Gradient pass for the two triplets at scratch slot `slot`. d(b n/|n|)/dx_q transposed applied
-// to F: with Fp = b/|n| (F - (n.F) n/|n|^2),
-//   f_j -= e_k x Fp,  f_k += e_j x Fp,  f_i += (e_k x Fp - e_j x Fp).
-// `lanes` = 2, or 1 for a lone last triplet (lane 1 is then discarded).
-[[gnu::always_inline]] inline void gradient_terms(const BetaTriplet& t, const BetaTriplet& u, const V2& F, const double* blk, int lanes,
-                           Vec3* f) {
-  const V2 ej{load(blk + 2 * EjX), load(blk + 2 * EjY), load(blk + 2 * EjZ)};
-  const V2 ek{load(blk + 2 * EkX), load(blk + 2 * EkY), load(blk + 2 * EkZ)};
-  const V2 n{load(blk + 2 * NX), load(blk + 2 * NY), load(blk + 2 * NZ)};
-  const D2 scale = load(blk + 2 * Scale);
-  const D2 c = (n.x * F.x + n.y * F.y + n.z * F.z) * load(blk + 2 * InvLen2);
-  const V2 Fp{scale * (F.x - c * n.x), scale * (F.y - c * n.y), scale * (F.z - c * n.z)};
-  const V2 fj = cross(ek, Fp), fk = cross(ej, Fp);
-  const V2 fi = fj - fk;
-  scatter<0, true>(f[t.j].data(), fj.x, fj.y, fj.z);
-  scatter<0, false>(f[t.k].data(), fk.x, fk.y, fk.z);
-  scatter<0, false>(f[t.i].data(), fi.x, fi.y, fi.z);
-  if (lanes < 2) return;
-  scatter<1, true>(f[u.j].data(), fj.x, fj.y, fj.z);
-  scatter<1, false>(f[u.k].data(), fk.x, fk.y, fk.z);
-  scatter<1, false>(f[u.i].data(), fi.x, fi.y, fi.z);
+// f_j -= a, f_k += b, f_i += c for the triplet in lane L
+template <int L, int N>
+PS_INLINE void scatter_lane(const BetaTriplet& t, const V<N>& a, const V<N>& b, const V<N>& c, Vec3* f) {
+  double* fj = f[t.j].data();
+  fj[0] -= a.x[L]; fj[1] -= a.y[L]; fj[2] -= a.z[L];
+  double* fk = f[t.k].data();
+  fk[0] += b.x[L]; fk[1] += b.y[L]; fk[2] += b.z[L];
+  double* fi = f[t.i].data();
+  fi[0] += c.x[L]; fi[1] += c.y[L]; fi[2] += c.z[L];
 }
 
-}  // namespace
+// Gradient pass for one group. d(b n/|n|)/dx_q transposed applied to F: with
+// Fp = b/|n| (F - (n.F) n/|n|^2),
+//   f_j -= e_k x Fp,  f_k += e_j x Fp,  f_i += (e_k x Fp - e_j x Fp).
+// Only the first `lanes` lanes are real triplets.
+template <int N>
+PS_INLINE void gradient_terms(const Group<N>& g, const V<N>& F, const double* blk, int lanes, Vec3* f) {
+  const V<N> ej{load<N>(blk + N * EjX), load<N>(blk + N * EjY), load<N>(blk + N * EjZ)};
+  const V<N> ek{load<N>(blk + N * EkX), load<N>(blk + N * EkY), load<N>(blk + N * EkZ)};
+  const V<N> n{load<N>(blk + N * NX), load<N>(blk + N * NY), load<N>(blk + N * NZ)};
+  const D<N> scale = load<N>(blk + N * Scale);
+  const D<N> c = (n.x * F.x + n.y * F.y + n.z * F.z) * load<N>(blk + N * InvLen2);
+  const V<N> Fp{scale * (F.x - c * n.x), scale * (F.y - c * n.y), scale * (F.z - c * n.z)};
+  const V<N> fj = cross(ek, Fp), fk = cross(ej, Fp);
+  const V<N> fi = fj - fk;
+  scatter_lane<0, N>(*g.t0, fj, fk, fi, f);
+  if (lanes > 1) scatter_lane<1, N>(*g.t1, fj, fk, fi, f);
+  if constexpr (N == 4) {
+    if (lanes > 2) scatter_lane<2, N>(*g.t2, fj, fk, fi, f);
+    if (lanes > 3) scatter_lane<3, N>(*g.t3, fj, fk, fi, f);
+  }
+}
 
-PS_SIMD_CLONES void add_shape_memory_forces(const Model& m, State& s) {
+// Beta terms of P* for `count` triplets from bt, in groups of N, summed per lane; leaves the
+// scratch for gradient_pass. Returns sum_t b_t n_t/|n_t|.
+template <int N> PS_INLINE Vec3 attractor_pass(const BetaTriplet* bt, int count, const Vec3* x, double* sc) {
+  V<N> acc{splat<N>(0.0), splat<N>(0.0), splat<N>(0.0)};
+  int u = 0;
+  for (; u + N <= count; u += N) {
+    const V<N> term = attractor_terms<N>(Group<N>(bt + u, N), x, sc + u * kFields);
+    acc = {acc.x + term.x, acc.y + term.y, acc.z + term.z};
+  }
+  if (u < count) {  // partial group: only the real lanes are added (bitwise select)
+    const int lanes = count - u;
+    const V<N> term = attractor_terms<N>(Group<N>(bt + u, lanes), x, sc + u * kFields);
+    const M<N> real = Pack<N>::iota < (M<N>{} + lanes);
+    auto add = [&](const D<N>& a, const D<N>& t) {
+      return reinterpret_cast<D<N>>((reinterpret_cast<M<N>>(a + t) & real) | (reinterpret_cast<M<N>>(a) & ~real));
+    };
+    acc = {add(acc.x, term.x), add(acc.y, term.y), add(acc.z, term.z)};
+  }
+  if constexpr (N == 2) return Vec3(acc.x[0] + acc.x[1], acc.y[0] + acc.y[1], acc.z[0] + acc.z[1]);
+  else
+    return Vec3((acc.x[0] + acc.x[1]) + (acc.x[2] + acc.x[3]), (acc.y[0] + acc.y[1]) + (acc.y[2] + acc.y[3]),
+                (acc.z[0] + acc.z[1]) + (acc.z[2] + acc.z[3]));
+}
+
+template <int N>
+PS_INLINE void gradient_pass(const BetaTriplet* bt, int count, const Vec3& F, const double* sc, Vec3* f) {
+  const V<N> F4{splat<N>(F[0]), splat<N>(F[1]), splat<N>(F[2])};
+  int u = 0;
+  for (; u + N <= count; u += N) gradient_terms<N>(Group<N>(bt + u, N), F4, sc + u * kFields, N, f);
+  if (u < count) gradient_terms<N>(Group<N>(bt + u, count - u), F4, sc + u * kFields, count - u, f);
+}
+
+// Groups of 4 pay off where particles have many triplets (a mesh-based body: surface particles
+// have ~8 neighbours, 28 beta triplets per particle on average for the truth cylinder); lattice
+// particles (<= 8 triplets) run faster in pairs. One group size per model, chosen from the model
+// alone (so every machine sums the same way), keeps a single tight loop.
+constexpr int kQuadsFromTripletsPerParticle = 12;
+
+PS_INLINE bool use_quads(const Model& m) {
+  return m.beta.size() >= static_cast<size_t>(kQuadsFromTripletsPerParticle) * m.rest_pos.size();
+}
+
+template <int N> PS_INLINE void shape_memory_impl(const Model& m, State& s) {
   // raw pointers: through m and s the compiler would reload every vector's buffer after each store
   const int n = m.particle_count();
   const Vec3* x = s.x.data();
@@ -170,35 +256,51 @@ PS_SIMD_CLONES void add_shape_memory_forces(const Model& m, State& s) {
     const int ns = nbr_start[p], ne = nbr_start[p + 1];
     const int bs = beta_start[p], count = beta_start[p + 1] - bs;
     if (count > cap) {  // only for a State not made by make_state(): sized once, then reused
-      cap = (count + 1) & ~1;
+      cap = (count + 3) / 4 * 4;
       s.triplet_scratch.assign(static_cast<size_t>(kFields) * cap, 0.0);
       sc = s.triplet_scratch.data();
     }
+    const BetaTriplet* bt = beta + bs;
 
     Vec3 target = Vec3::Zero();
     for (int a = ns; a < ne; ++a) target += nbr_w[a] * x[nbr[a]];
-    // beta terms: even and odd triplets summed in separate lanes, then added together
-    V2 acc{splat(0.0), splat(0.0), splat(0.0)};
-    int u = 0;
-    for (; u + 1 < count; u += 2) {
-      const V2 term = attractor_terms(beta[bs + u], beta[bs + u + 1], x, sc + u * kFields);
-      acc = {acc.x + term.x, acc.y + term.y, acc.z + term.z};
-    }
-    if (u < count) {
-      const V2 term = attractor_terms(beta[bs + u], beta[bs + u], x, sc + u * kFields);
-      acc = {add_lane0(acc.x, term.x), add_lane0(acc.y, term.y), add_lane0(acc.z, term.z)};
-    }
-    if (count > 0) target += Vec3(lane0(acc.x) + lane1(acc.x), lane0(acc.y) + lane1(acc.y), lane0(acc.z) + lane1(acc.z));
+    if (count > 0) target += attractor_pass<N>(bt, count, x, sc);
     attractor[p] = target;
 
     const Vec3 F = k_e[p] * (target - x[p]);
     f[p] += F;
     for (int a = ns; a < ne; ++a) f[nbr[a]] -= nbr_w[a] * F;
-    if (!gradient) continue;
-    const V2 F2{splat(F[0]), splat(F[1]), splat(F[2])};
-    for (u = 0; u + 1 < count; u += 2) gradient_terms(beta[bs + u], beta[bs + u + 1], F2, sc + u * kFields, 2, f);
-    if (u < count) gradient_terms(beta[bs + u], beta[bs + u], F2, sc + u * kFields, 1, f);
+    if (gradient && count > 0) gradient_pass<N>(bt, count, F, sc, f);
   }
+}
+
+#if PS_AVX_DISPATCH
+// The same code with 256-bit registers; run only where the CPU (and OS) support AVX.
+template <int N> __attribute__((target("avx"))) void shape_memory_avx(const Model& m, State& s) {
+  shape_memory_impl<N>(m, s);
+}
+#endif
+
+}  // namespace
+
+namespace detail {
+// The baseline build, callable directly so the bench can check it against the AVX one.
+void add_shape_memory_forces_baseline(const Model& m, State& s) {
+  if (use_quads(m)) shape_memory_impl<4>(m, s);
+  else shape_memory_impl<2>(m, s);
+}
+}  // namespace detail
+
+void add_shape_memory_forces(const Model& m, State& s) {
+#if PS_AVX_DISPATCH
+  static const bool avx = __builtin_cpu_supports("avx");
+  if (avx) {
+    if (use_quads(m)) shape_memory_avx<4>(m, s);
+    else shape_memory_avx<2>(m, s);
+    return;
+  }
+#endif
+  detail::add_shape_memory_forces_baseline(m, s);
 }
 
 }  // namespace ps

@@ -4,8 +4,9 @@
 // the stroke has ended and the tissue has had `settle` to close in, the core is what lies in the
 // specimen notch: particles whose current position is between notch_offset and notch_offset +
 // notch_length behind the tip and within notch_radius of the axis. Reported per component
-// (organ, zone) and for tumour components the length of the core they fill: the union along the
-// axis of one particle spacing around each tumour particle, clipped to the notch.
+// (organ) and per particle tag (prostate zone, lesion), and for tumour particles (a tumour
+// component or tag) the length of the core they fill: the union along the axis of one particle
+// spacing around each tumour particle, clipped to the notch.
 #include <algorithm>
 
 #include "engine/tools/needle_internal.h"
@@ -36,6 +37,8 @@ void update_biopsy(NeedleTool::Needle& nd, const Model& m, const State& s, Needl
   core.tumour_pos.clear();
   core.tumour_half.clear();
   std::fill(core.per_component.begin(), core.per_component.end(), 0);
+  std::fill(core.per_tag.begin(), core.per_tag.end(), 0);
+  const bool tagged = !m.particle_tags.empty();
   core.overflow = 0;
   const double a_hi = -g.notch_offset, a_lo = -(g.notch_offset + g.notch_length);
   const double r2 = nd.notch_radius * nd.notch_radius;
@@ -45,9 +48,12 @@ void update_biopsy(NeedleTool::Needle& nd, const Model& m, const State& s, Needl
     if (a < a_lo || a > a_hi || rel.squaredNorm() - a * a > r2) continue;
     const int c = m.component_of[p];
     ++core.per_component[c];
+    const uint64_t tags = tagged ? m.particle_tags[p] : 0;
+    for (size_t t = 0; t < core.per_tag.size(); ++t)
+      if (tags & (uint64_t{1} << t)) ++core.per_tag[t];
     if (static_cast<int>(core.particles.size()) < kCoreCapacity) core.particles.push_back(p);
     else ++core.overflow;
-    if (nd.tumour[c] && static_cast<int>(core.tumour_pos.size()) < kCoreCapacity) {
+    if ((nd.tumour[c] || (tags & nd.tumour_tags)) && static_cast<int>(core.tumour_pos.size()) < kCoreCapacity) {
       core.tumour_pos.push_back(-a);
       core.tumour_half.push_back(0.5 * m.components[c].spacing);
     }

@@ -223,17 +223,26 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
     nd.core.tumour_pos.reserve(kCoreCapacity);
     nd.core.tumour_half.reserve(kCoreCapacity);
     nd.core.per_component.assign(nc, 0);
+    nd.core.per_tag.assign(m.tag_names.size(), 0);
     nd.tumour.assign(nc, 0);
-    if (!spec.tumour_components.empty()) {
-      for (size_t k = 0; k < spec.tumour_components.size(); ++k) {
-        const int c = m.find_component(spec.tumour_components[k]);
-        if (c < 0)
-          throw InputError(spec.file, spec.line, spec.key + ".tumour_components[" + std::to_string(k) + "]",
-                           "unknown component '" + spec.tumour_components[k] + "'");
-        nd.tumour[c] = 1;
+    if (!spec.tumour.empty()) {
+      for (size_t k = 0; k < spec.tumour.size(); ++k) {
+        const int c = m.find_component(spec.tumour[k]);
+        const int t = m.find_tag(spec.tumour[k]);
+        if (c < 0 && t < 0)
+          throw InputError(spec.file, spec.line, spec.key + ".tumour[" + std::to_string(k) + "]",
+                           "'" + spec.tumour[k] + "' is neither a component nor a tag");
+        if (c >= 0) nd.tumour[c] = 1;
+        if (t >= 0) nd.tumour_tags |= uint64_t{1} << t;
       }
     } else {
-      for (int c = 0; c < nc; ++c) nd.tumour[c] = lower(m.components[c].name).find("tumo") != std::string::npos;
+      auto is_tumour = [](const std::string& name) {
+        const std::string l = lower(name);
+        return l.find("tumo") != std::string::npos || l.find("lesion") != std::string::npos;
+      };
+      for (int c = 0; c < nc; ++c) nd.tumour[c] = is_tumour(m.components[c].name);
+      for (size_t t = 0; t < m.tag_names.size(); ++t)
+        if (is_tumour(m.tag_names[t])) nd.tumour_tags |= uint64_t{1} << t;
     }
     // explicit springs on particles: press and virtual-particle stiffness vs the substep
     const double k_tool = std::max(spec.press_stiffness, spec.stick_stiffness);
@@ -251,8 +260,6 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
 }
 
 NeedleTool::~NeedleTool() = default;
-
-void NeedleTool::boundary_conditions(const Model&, State&, double) {}
 
 void NeedleTool::forces(const Model& m, State& s, double dt) {
   // Algorithm 2 for each needle: zones, tissue forces per node (stick/slide), needle movement
@@ -314,12 +321,8 @@ void NeedleTool::release_command(int i) { needles_.at(i)->interactive = false; }
 void NeedleTool::fire(int i, double now) {
   Needle& nd = *needles_.at(i);
   if (!nd.spec.gun) throw InputError(nd.spec.file, nd.spec.line, nd.spec.key + ".gun", "needle '" + nd.spec.name + "' has no biopsy gun");
-  nd.fire_time = now;
+  nd.fire_time = now;   // the stroke ramps in from `now` (needle_command), scripted or interactive
   nd.core.taken = false;
-  if (nd.interactive) {
-    // an interactive needle fires from where it is commanded: the stroke moves the command
-    nd.cmd_T += nd.spec.gun->stroke * nd.cmd_d;
-  }
 }
 
 std::vector<SeedReport> NeedleTool::seeds() const {
@@ -351,6 +354,8 @@ CoreReport NeedleTool::core(int i) const {
   r.particles = nd.core.particles;
   for (size_t c = 0; c < nd.core.per_component.size(); ++c)
     if (nd.core.per_component[c] > 0) r.per_component.emplace_back(model_->components[c].name, nd.core.per_component[c]);
+  for (size_t t = 0; t < nd.core.per_tag.size(); ++t)
+    if (nd.core.per_tag[t] > 0) r.per_tag.emplace_back(model_->tag_names[t], nd.core.per_tag[t]);
   r.tumour_particles = nd.core.tumour_particles;
   r.tumour_length = nd.core.tumour_length;
   r.notch_length = nd.spec.gun ? nd.spec.gun->notch_length : 0.0;

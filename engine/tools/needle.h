@@ -32,10 +32,15 @@
 //    The surface deflects before puncture and is breached when P reaches the same weighted
 //    average of the puncture weights (`puncture_n`, eq. 5): event, and the component counts
 //    as entered, so its particles are cut and rub from then on. Before that, an intact
-//    membrane's particles take no cutting or friction (the needle is outside it).
+//    membrane's particles take no cutting or friction (the needle is outside it). A needle that
+//    starts inside a volume has entered it. Walls modelled as surfaces (fill: surface: rectum,
+//    bladder) are sheets: pressed from either side (transrectal biopsy leaves the lumen through
+//    the wall), torn one hole at a time (a far wall is punctured again), never cut; their
+//    particles outside the pressed patch rub the shaft.
 //  * cutting (eq. 5): C = sum k_c^i/d_i / sum 1/d_i over the cutting zone of entered components,
 //    particle i receives k_c^i (1/d_i) / sum 1/d_j along d. Applied only while the needle moves
-//    forward (ramped in over cut_velocity): no cutting while retracting or at rest. When the tip
+//    forward (ramped in over cut_velocity, on the axial speed low-passed over kCutFilterTime):
+//    no cutting while retracting or at rest. When the tip
 //    sits between particle layers and the cutting zone is momentarily empty, the tip node's
 //    friction-zone particles take the cutting force, so the force does not flicker with the
 //    lattice. Distances below the needle radius count as the needle radius.
@@ -122,7 +127,8 @@ struct CoreReport {
   bool taken = false;
   double time = 0.0;                    // [s]
   std::vector<int> particles;           // in the notch
-  std::vector<std::pair<std::string, int>> per_component;  // component -> particle count
+  std::vector<std::pair<std::string, int>> per_component;  // component (organ) -> particle count
+  std::vector<std::pair<std::string, int>> per_tag;        // tag (zone, lesion) -> particle count
   int tumour_particles = 0;
   double tumour_length = 0.0;           // length of the core occupied by tumour [m]
   double notch_length = 0.0;            // [m]
@@ -131,12 +137,11 @@ struct CoreReport {
 class NeedleTool : public Tool {
  public:
   // Validates the needles against the model (InputError naming the needle field): path that
-  // never comes near the scene, unknown components in puncture_n / tumour_components.
+  // never comes near the scene, unknown components in puncture_n, unknown tumour components/tags.
   NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& spec);
   ~NeedleTool() override;
 
   const char* name() const override { return "needles"; }
-  void boundary_conditions(const Model& m, State& s, double dt) override;
   void forces(const Model& m, State& s, double dt) override;
   void after_step(const Model& m, State& s, double dt) override;
 

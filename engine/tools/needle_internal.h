@@ -26,6 +26,7 @@ struct CoreState {
   double time = 0.0;
   std::vector<int> particles;      // capacity kCoreCapacity
   std::vector<int> per_component;  // [components]
+  std::vector<int> per_tag;        // [model tags]
   std::vector<double> tumour_pos;  // scratch: axial positions of tumour particles (capacity)
   std::vector<double> tumour_half; // scratch: half spacing of each
   int tumour_particles = 0;
@@ -102,6 +103,7 @@ struct NeedleTool::Needle {
   std::vector<SeedState> seeds;
   CoreState core;
   std::vector<uint8_t> tumour;           // [components] counts as tumour in a core
+  uint64_t tumour_tags = 0;              // tag bits that count as tumour
 };
 
 // Surfaces of the membrane components (puncture_n > 0) as faces incident to their particles.

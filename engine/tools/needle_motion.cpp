@@ -32,9 +32,10 @@ void script_depth(const NeedleSpec& s, double t, double& depth, double& rate) {
 
 void needle_command(const NeedleTool::Needle& nd, double t, Vec3& tip, Vec3& dir, Vec3& vel) {
   if (nd.interactive) {
-    tip = nd.cmd_T;
+    // the device holds the gun body; a fired gun extends the needle by the stroke
     dir = nd.cmd_d;
-    vel = nd.cmd_V;
+    tip = nd.cmd_T + gun_stroke(nd, t) * dir;
+    vel = nd.cmd_V + gun_stroke_rate(nd, t) * dir;
     return;
   }
   double depth = 0.0, rate = 0.0;

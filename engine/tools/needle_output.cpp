@@ -98,6 +98,7 @@ std::string seeds_csv(const NeedleTool& tool) {
 
 std::string cores_csv(const NeedleTool& tool) {
   std::string out = "needle,taken,time_s,component,particles,tumour_particles,tumour_length_mm,notch_length_mm\n";
+  // one row per component and per tag ("tag:NAME") found in the notch
   for (int i = 0; i < tool.count(); ++i) {
     if (!tool.spec(i).gun) continue;
     const CoreReport c = tool.core(i);
@@ -105,6 +106,7 @@ std::string cores_csv(const NeedleTool& tool) {
     const std::string tail = "," + std::to_string(c.tumour_particles) + "," + mm(c.tumour_length) + "," + mm(c.notch_length) + "\n";
     if (c.per_component.empty()) out += head + ",0" + tail;
     for (const auto& [name, count] : c.per_component) out += head + name + "," + std::to_string(count) + tail;
+    for (const auto& [name, count] : c.per_tag) out += head + "tag:" + name + "," + std::to_string(count) + tail;
   }
   return out;
 }

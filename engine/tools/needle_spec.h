@@ -57,7 +57,9 @@ struct NeedleSpec {
   std::vector<NeedleScriptPoint> script;  // empty: hold at start (interactive commands)
   std::vector<double> seed_depths; // brachytherapy seeds, planned depths along the path [m]
   std::optional<BiopsyGunSpec> gun;
-  std::vector<std::string> tumour_components;  // core sample: empty -> names containing "tumo"
+  // core sample: components or particle tags that are tumour (empty: those whose name contains
+  // "tumo" or "lesion")
+  std::vector<std::string> tumour;
   // where it came from, for errors found later against the compiled model
   std::string file;
   int line = 0;

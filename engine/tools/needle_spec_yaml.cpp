@@ -13,7 +13,7 @@ NeedleSpec parse_needle(const YamlReader& r, const YAML::Node& v, int index) {
               {"name", "preset", "gauge", "diameter_mm", "length_mm", "node_spacing_mm", "mass_g", "coupling_stiffness_n_mm",
                "coupling_damping_n_s_m", "cutting_radius_mm", "friction_radius_mm",
                "press_stiffness_n_mm", "stick_stiffness_n_mm", "static_ratio", "cut_velocity_mm_s", "max_force_n",
-               "max_speed_m_s", "plan_margin_mm", "start_mm", "direction", "script", "seeds_mm", "gun", "tumour_components"});
+               "max_speed_m_s", "plan_margin_mm", "start_mm", "direction", "script", "seeds_mm", "gun", "tumour"});
   NeedleSpec s;
   s.file = r.file();
   s.line = YamlReader::line_of(v);
@@ -80,10 +80,9 @@ NeedleSpec parse_needle(const YamlReader& r, const YAML::Node& v, int index) {
     if (g["notch_radius_mm"]) gun.notch_radius = r.positive(g["notch_radius_mm"], kg + ".notch_radius_mm") * kMm;
     s.gun = gun;
   }
-  if (const YAML::Node tc = v["tumour_components"]) {
-    if (!tc.IsSequence()) r.fail(tc, k + ".tumour_components", "expected a list of component names");
-    for (size_t i = 0; i < tc.size(); ++i)
-      s.tumour_components.push_back(r.string(tc[i], k + ".tumour_components[" + std::to_string(i) + "]"));
+  if (const YAML::Node tc = v["tumour"]) {
+    if (!tc.IsSequence()) r.fail(tc, k + ".tumour", "expected a list of component or tag names");
+    for (size_t i = 0; i < tc.size(); ++i) s.tumour.push_back(r.string(tc[i], k + ".tumour[" + std::to_string(i) + "]"));
   }
   validate_needle_spec(s);
   return s;

@@ -27,7 +27,7 @@
 //       seeds_mm: [20, 25]             # planned seed depths (brachytherapy)
 //       gun: {fire_s: 2, stroke_mm: 22, duration_ms: 15, settle_ms: 5,
 //             notch_offset_mm: 5, notch_length_mm: 18, notch_radius_mm: 3}
-//       tumour_components: [tumour]
+//       tumour: [lesion]                # components or particle tags counted as tumour in a core
 #pragma once
 #include "engine/scenario/yaml_reader.h"
 #include "engine/tools/needle_spec.h"

@@ -66,5 +66,44 @@ TEST(Biopsy, GunFireIsFastStableAndTheCoreHoldsTheTumour) {
   EXPECT_NE(cores_csv(*s.tool).find("gun,1,"), std::string::npos);
 }
 
+TEST(Biopsy, TumourGivenAsAParticleTagIsMeasuredInTheCore) {
+  // one gland block with a tagged lesion 2.5..9.5 mm deep; the core reports tags (zones, lesion)
+  std::string y = biopsy_yaml();
+  y.replace(y.find("  - {name: tumour,"), y.find("links:") - y.find("  - {name: tumour,"), "");
+  y.replace(y.find("links:"), y.find("constraints:") - y.find("links:"),
+            "tags:\n  - {name: lesion, component: prostate, region: {box: {min_mm: [-12, -12, -9.5], max_mm: [12, 12, -2.5]}}}\n");
+  y.replace(y.find("component: tumour, region: {box: {min_mm: [-100, -100, -41], max_mm: [100, 100, -39]}}"),
+            std::string("component: tumour, region: {box: {min_mm: [-100, -100, -41], max_mm: [100, 100, -39]}}").size(),
+            "component: prostate, region: {box: {min_mm: [-100, -100, -17], max_mm: [100, 100, -15]}}");
+  y.replace(y.find("script: [[0, 0], [0.4, 8]]"), std::string("script: [[0, 0], [0.4, 8]]").size(), "script: [[0, 0], [0.4, 2]]");
+  y.replace(y.find("stroke_mm: 22"), std::string("stroke_mm: 22").size(), "stroke_mm: 14");
+  auto s = test::make_needle_scene(y);
+  ASSERT_GE(s.model->find_tag("lesion"), 0);
+  for (int i = 0; i < 560; ++i) ASSERT_TRUE(s.sim->tick()) << s.sim->state().fault.describe(*s.model);
+  const CoreReport core = s.tool->core(0);
+  ASSERT_TRUE(core.taken);
+  int lesion = 0;
+  for (const auto& [name, n] : core.per_tag) lesion += name == "lesion" ? n : 0;
+  EXPECT_GT(lesion, 0);
+  EXPECT_EQ(core.tumour_particles, lesion) << "'lesion' tags count as tumour";
+  EXPECT_GT(core.tumour_length, 2e-3);
+  EXPECT_LT(core.tumour_length, 10e-3);
+}
+
+TEST(Biopsy, InteractiveFireAdvancesFromTheCommandedPose) {
+  std::string y = biopsy_yaml();
+  y.replace(y.find("fire_s: 0.5"), std::string("fire_s: 0.5").size(), "fire_s: 100");
+  auto s = test::make_needle_scene(y);
+  for (int i = 0; i < 500; ++i) ASSERT_TRUE(s.sim->tick());
+  const Vec3 tip = s.tool->readout(0).tip;
+  s.tool->command(0, tip, Vec3(0, 0, -1));  // the hand holds the gun where it is
+  for (int i = 0; i < 20; ++i) ASSERT_TRUE(s.sim->tick());
+  EXPECT_FALSE(s.tool->core(0).taken);
+  s.tool->fire(0, s.sim->state().time);
+  for (int i = 0; i < 60; ++i) ASSERT_TRUE(s.sim->tick()) << s.sim->state().fault.describe(*s.model);
+  EXPECT_NEAR(tip.z() - s.tool->readout(0).tip.z(), 22e-3, 1.5e-3);
+  EXPECT_TRUE(s.tool->core(0).taken);
+}
+
 }  // namespace
 }  // namespace ps

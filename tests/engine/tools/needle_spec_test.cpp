@@ -108,7 +108,7 @@ TEST(NeedleSpec, BadInputNamesTheField) {
   // typos and references
   EXPECT_EQ(error_field(needle_with("      lenght_mm: 100\n")), k + "lenght_mm");
   EXPECT_EQ(error_field(needle_with("      preset: sword\n")), k + "preset");
-  EXPECT_EQ(error_field(needle_with("      tumour_components: [nope]\n")), k + "tumour_components[0]");
+  EXPECT_EQ(error_field(needle_with("      tumour: [nope]\n")), k + "tumour[0]");
   BlockOptions o;
   o.extra_puncture = ", liver: 2";
   EXPECT_EQ(error_field(block_yaml(o, vertical_needle("n", 0, 0, "[[0, 0]]"))), "needles.puncture_n.liver");
