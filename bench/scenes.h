@@ -3,10 +3,11 @@
 //   cube N        volumetric N x N x N lattice, 6 mm spacing (the calibration's reference
 //                 spacing), E = 10 kPa, bottom layer fixed, gravity -z. N = 11 -> 1331 particles
 //                 (the paper's "1300 particles, 133 ms per iteration" size), N = 22 -> 10648.
-//   cylinder      the truth-cylinder geometry as a primitive: radius 19 mm, length 178 mm along +z,
-//                 spacing 6 mm, surface mesh + interior lattice (volumetric_particles, the same
-//                 path a mesh file takes), clamped at z = 0, gravity -y: 1300 particles. Surface
-//                 particles have ~8 neighbours, hence many beta triplets (28 per particle).
+//   cylinder      the truth-cylinder phantom as a primitive (docs/validation.md): radius 19 mm,
+//                 length 178 mm along +z, spacing 6 mm, E = 60 kPa, 1070 kg/m^3, surface mesh +
+//                 interior lattice (volumetric_particles, the path a mesh file takes), clamped at
+//                 z = 0, gravity -y: 1300 particles. Surface particles have ~8 neighbours, hence
+//                 many beta triplets (28 per particle).
 // Trailing i in a scene name: incompressible (volume constraint on the surface).
 #pragma once
 #include <memory>
@@ -19,10 +20,12 @@ namespace ps::bench {
 
 inline constexpr int kCubeSpacingMm = 6;
 
-inline std::string material_yaml(bool incompressible, double damping_1_s) {
+inline std::string material_yaml(bool incompressible, double damping_1_s, double young_kpa = 10,
+                                 double density_kg_m3 = 1000) {
   return "materials:\n"
-         "  soft: {young_kpa: 10, density_kg_m3: 1000, damping_1_s: " + std::to_string(damping_1_s) +
-         ", incompressible: " + (incompressible ? "true" : "false") + "}\n";
+         "  soft: {young_kpa: " + std::to_string(young_kpa) + ", density_kg_m3: " + std::to_string(density_kg_m3) +
+         ", damping_1_s: " + std::to_string(damping_1_s) + ", incompressible: " + (incompressible ? "true" : "false") +
+         "}\n";
 }
 
 // points_per_side lattice points on each edge, spacing_mm apart
@@ -45,8 +48,8 @@ inline std::string cube_scene(int points_per_side, bool incompressible, double d
 inline std::string cylinder_scene(bool incompressible, double damping_1_s = 20) {
   return "name: bench_cylinder\n"
          "time: {dt_ms: 1, substeps: 1, duration_s: 1}\n"
-         "gravity_m_s2: [0, -9.81, 0]\n" +
-         material_yaml(incompressible, damping_1_s) +
+         "gravity_m_s2: [0, -9.8, 0]\n" +
+         material_yaml(incompressible, damping_1_s, 60, 1070) +
          "components:\n"
          "  - name: cylinder\n"
          "    material: soft\n"

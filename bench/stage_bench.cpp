@@ -44,6 +44,7 @@ BENCHMARK_CAPTURE(kRef, cube11, "cube11")->Name("BM_ShapeMemoryReference/cube11"
 BENCHMARK_CAPTURE(kOpt, cube22, "cube22")->Name("BM_ShapeMemory/cube22")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kRef, cube22, "cube22")->Name("BM_ShapeMemoryReference/cube22")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kBase, cube11, "cube11")->Name("BM_ShapeMemoryBaselineBuild/cube11")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(kBase, cyl, "cyl")->Name("BM_ShapeMemoryBaselineBuild/cyl")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kOpt, cyl, "cyl")->Name("BM_ShapeMemory/cyl")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kRef, cyl, "cyl")->Name("BM_ShapeMemoryReference/cyl")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Check, cube11, "cube11")->Unit(benchmark::kMicrosecond);

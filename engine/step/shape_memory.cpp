@@ -13,22 +13,22 @@
 // linear and angular momentum, and is stable below the explicit limit.
 //
 // Speed (docs/performance.md): this stage is ~90% of a step. The beta triplets of a particle are
-// processed four at a time, one per lane of a 4-double vector (GCC vector extension): one square
-// root and one division per triplet instead of five long-latency operations, and the gradient
-// pass reuses the edges, normal, b/|n| and 1/|n|^2 that the attractor pass left in
-// State::triplet_scratch. The same source is compiled twice: with AVX (256-bit registers, picked
-// at run time when the CPU has it) and for the x86-64 baseline (each vector op becomes two SSE2
-// ops). Lanes only ever do IEEE +, -, *, / and sqrt, "avx" brings no FMA, and the lane layout is
-// the same in both builds, so both give bit-identical forces (prostatesim_bench --verify checks
-// it); a last, partial group fills its unused lanes with copies of a valid triplet and discards
-// them. Force scatters keep the original order (triplet by triplet, j then k then i); the beta
-// terms of P* are summed per lane (triplets t = 0,4,8,... in lane 0, ...) and the four lane sums
-// added as (l0 + l1) + (l2 + l3).
+// processed in groups of N = 2 or 4, one triplet per lane of an N-double vector (GCC vector
+// extension): one square root and one division per triplet instead of five long-latency
+// operations, and the gradient pass reuses the edges, normal, b/|n| and 1/|n|^2 that the
+// attractor pass left in State::triplet_scratch. N is 4 for models with many triplets per
+// particle (mesh-based bodies), else 2, decided from the model alone. The same source is
+// compiled twice, for the x86-64 baseline (SSE2) and with AVX (VEX encoding, 256-bit registers),
+// and the AVX build runs where the CPU has it. Lanes only ever do IEEE +, -, *, / and sqrt,
+// "avx" brings no FMA and the lane layout does not depend on the build, so both builds give
+// bit-identical forces (prostatesim_bench --verify checks it). A last, partial group fills its
+// unused lanes with copies of a real triplet and discards them. Force scatters keep the original
+// order (triplet by triplet, j then k then i); the beta terms of P* are summed per lane (lane l
+// takes triplets l, l+N, l+2N, ...) and the lane sums added as l0 + l1, or (l0 + l1) + (l2 + l3).
 
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
 
 #include "engine/step/stages.h"
 
@@ -52,18 +52,19 @@ namespace {
 
 #define PS_INLINE [[gnu::always_inline]] inline
 
-// N doubles (one triplet per lane), its lane mask type, and an unaligned alias for loads/stores.
+// N doubles (one triplet per lane), its lane mask type, and an unaligned, may-alias view for
+// loads and stores to double arrays (positions, forces, scratch).
 template <int N> struct Pack;
 template <> struct Pack<2> {
   typedef double D __attribute__((vector_size(16)));
   typedef int64_t M __attribute__((vector_size(16)));
-  typedef double U __attribute__((vector_size(16), aligned(8)));
+  typedef double U __attribute__((vector_size(16), aligned(8), may_alias));
   static constexpr M iota{0, 1};
 };
 template <> struct Pack<4> {
   typedef double D __attribute__((vector_size(32)));
   typedef int64_t M __attribute__((vector_size(32)));
-  typedef double U __attribute__((vector_size(32), aligned(8)));
+  typedef double U __attribute__((vector_size(32), aligned(8), may_alias));
   static constexpr M iota{0, 1, 2, 3};
 };
 
@@ -160,15 +161,18 @@ template <int N> PS_INLINE V<N> attractor_terms(const Group<N>& g, const Vec3* x
   return {scale * n.x, scale * n.y, scale * n.z};
 }
 
-// f_j -= a, f_k += b, f_i += c for the triplet in lane L
+// f_j -= a, f_k += b, f_i += c for the triplet in lane L; x and y as one 2-lane operation
 template <int L, int N>
 PS_INLINE void scatter_lane(const BetaTriplet& t, const V<N>& a, const V<N>& b, const V<N>& c, Vec3* f) {
   double* fj = f[t.j].data();
-  fj[0] -= a.x[L]; fj[1] -= a.y[L]; fj[2] -= a.z[L];
+  store<2>(fj, load<2>(fj) - D<2>{a.x[L], a.y[L]});
+  fj[2] -= a.z[L];
   double* fk = f[t.k].data();
-  fk[0] += b.x[L]; fk[1] += b.y[L]; fk[2] += b.z[L];
+  store<2>(fk, load<2>(fk) + D<2>{b.x[L], b.y[L]});
+  fk[2] += b.z[L];
   double* fi = f[t.i].data();
-  fi[0] += c.x[L]; fi[1] += c.y[L]; fi[2] += c.z[L];
+  store<2>(fi, load<2>(fi) + D<2>{c.x[L], c.y[L]});
+  fi[2] += c.z[L];
 }
 
 // Gradient pass for one group. d(b n/|n|)/dx_q transposed applied to F: with
