@@ -1,5 +1,7 @@
 // The prostatesim command as a user runs it: outputs, exit codes, bad input handling.
 #include <gtest/gtest.h>
+
+#include "tests/app/run_cli.h"
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -12,18 +14,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result { int code; std::string out; };
-
-Result run(const std::string& args) {
-  const std::string cmd = std::string(PROSTATESIM_BINARY) + " " + args + " 2>&1";
-  Result r{0, ""};
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p)) r.out.append(buf, n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using Result = ps::test::CliResult;
+Result run(const std::string& args) { return ps::test::run_cli(args); }
 
 fs::path temp_dir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("prostatesim_cli_" + name + "_" + std::to_string(::getpid()));

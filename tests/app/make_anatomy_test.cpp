@@ -1,6 +1,8 @@
 // `prostatesim make-anatomy` reproduces the committed assets byte for byte, and `check` compiles
 // the default scenario within its time budget.
 #include <gtest/gtest.h>
+
+#include "tests/app/run_cli.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,18 +15,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result { int code; std::string out; };
-
-Result run_cli(const std::string& args) {
-  const std::string cmd = std::string(PROSTATESIM_BINARY) + " " + args + " 2>&1";
-  Result r{0, ""};
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p)) r.out.append(buf, n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using Result = ps::test::CliResult;
+using ps::test::run_cli;
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
