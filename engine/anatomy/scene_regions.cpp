@@ -32,6 +32,12 @@ TriMesh component_surface(const ComponentSpec& c, const std::string& file) {
   return {};
 }
 
+size_t spec_index(const ScenarioSpec& spec, const std::string& name) {
+  size_t j = 0;
+  while (spec.components[j].name != name) ++j;  // names checked by the parser
+  return j;
+}
+
 }  // namespace
 
 ParticleSet fill_excluding(const ScenarioSpec& spec, size_t ci, const std::vector<ParticleSet>& sets,
@@ -43,8 +49,7 @@ ParticleSet fill_excluding(const ScenarioSpec& spec, size_t ci, const std::vecto
   std::vector<std::unique_ptr<MeshQuery>> others;
   double vol = 0.0;
   for (const std::string& name : c.exclude_inside) {
-    size_t j = 0;
-    while (spec.components[j].name != name) ++j;  // names checked by the parser
+    const size_t j = spec_index(spec, name);
     const TriMesh other{sets[j].pos, sets[j].faces};
     for (const Vec3& v : other.vertices)
       if (!own.inside(v))
@@ -52,6 +57,20 @@ ParticleSet fill_excluding(const ScenarioSpec& spec, size_t ci, const std::vecto
                          "'" + name + "' is not inside '" + c.name + "': its particle at " + mm_point(v) + " lies outside");
     vol += signed_volume(other);
     others.push_back(std::make_unique<MeshQuery>(other));
+  }
+  // the excluded organs must not intersect one another (a misplaced or wrongly scaled mesh): a
+  // particle of one inside another would be claimed by two organs and their volumes counted twice
+  for (size_t j = 0; j < others.size(); ++j) {
+    const ParticleSet& a = sets[spec_index(spec, c.exclude_inside[j])];
+    for (size_t k = 0; k < others.size(); ++k) {
+      if (k == j) continue;
+      for (const Vec3& v : a.pos)
+        if (others[k]->inside(v))
+          throw InputError(spec.file, c.loc.line, key,
+                           "'" + c.exclude_inside[j] + "' and '" + c.exclude_inside[k] + "' overlap: the particle of '" +
+                               c.exclude_inside[j] + "' at " + mm_point(v) + " lies inside '" + c.exclude_inside[k] +
+                               "' (check their meshes' units, scale and translate_mm)");
+    }
   }
   for (const Vec3& v : surf.vertices)
     for (size_t k = 0; k < others.size(); ++k)

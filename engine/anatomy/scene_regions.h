@@ -16,7 +16,8 @@ namespace ps::anatomy {
 // component) that leaves out points inside, or within 0.45 spacing of, the closed surfaces of
 // the components it lists in exclude_inside (taken from `sets`, already built). Every listed
 // component must lie inside this one, and no surface particle of this one may fall inside a
-// listed component (InputError naming the key otherwise). *excluded_volume receives the summed
+// listed component, nor a particle of one listed component inside another (overlapping organs)
+// (InputError naming the key and the point otherwise). *excluded_volume receives the summed
 // volume enclosed by the listed components [m^3], which is not this component's material.
 ParticleSet fill_excluding(const ScenarioSpec& spec, size_t ci, const std::vector<ParticleSet>& sets,
                            double* excluded_volume);

@@ -7,8 +7,11 @@
 // (organ) and per particle tag (prostate zone, lesion), and for tumour particles (a tumour
 // component or tag) the length of the core they fill: the union along the axis of one particle
 // spacing around each tumour particle, clipped to the notch.
+#include "engine/tools/biopsy.h"
+
 #include <algorithm>
 
+#include "engine/anatomy/zones.h"
 #include "engine/tools/needle_internal.h"
 
 namespace ps {
@@ -82,6 +85,39 @@ void update_biopsy(NeedleTool::Needle& nd, const Model& m, const State& s, Needl
   if (cur_hi > cur_lo) length += cur_hi - cur_lo;
   core.tumour_length = length;
   push_event(events, nd, NeedleEventKind::Core, s.time, nd.T, -1, -1, static_cast<double>(core.particles.size() + core.overflow));
+}
+
+CoreSite core_site(const CoreReport& core) {
+  using anatomy::kZoneTagNames;
+  CoreSite site;
+  int count[kZoneTagNames.size()] = {};
+  for (const auto& [name, n] : core.per_tag) {
+    const auto it = std::find(kZoneTagNames.begin(), kZoneTagNames.end(), name);
+    if (it == kZoneTagNames.end()) {
+      site.lesions.emplace_back(name, n);
+    } else {
+      count[it - kZoneTagNames.begin()] += n;
+      site.zones.emplace_back(name, n);
+    }
+  }
+  auto most_first = [](const auto& a, const auto& b) { return a.second > b.second; };
+  std::stable_sort(site.zones.begin(), site.zones.end(), most_first);
+  std::stable_sort(site.lesions.begin(), site.lesions.end(), most_first);
+  // the groups of kZoneTagNames: level [0, 3), side [3, 5), medial/lateral [5, 7), zone [7, 10)
+  auto pick = [&](int lo, int hi) {
+    int best = lo;
+    for (int i = lo + 1; i < hi; ++i)
+      if (count[i] > count[best]) best = i;
+    return best;
+  };
+  if (count[pick(0, 3)] == 0) return site;  // no prostate zone tag in the notch
+  anatomy::ProstateZoneTag t;
+  t.level = static_cast<anatomy::ProstateLevel>(pick(0, 3));
+  t.side = static_cast<anatomy::ProstateSide>(pick(3, 5) - 3);
+  t.lateral = pick(5, 7) == 6;
+  t.zone = static_cast<anatomy::ProstateZone>(pick(7, 10) - 7);
+  site.label = anatomy::zone_label(t);
+  return site;
 }
 
 }  // namespace ps
