@@ -8,6 +8,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "engine/mesh/edge_collapse.h"
 #include "engine/mesh/mesh_check.h"
 #include "engine/mesh/mesh_query.h"
 
@@ -334,9 +335,32 @@ TriMesh remesh_to_spacing(const TriMesh& input, double spacing, RemeshStats* sta
       if (stats) *stats = st;
       return out;
     }
-  // Every clustering broke the topology (features thinner than half the spacing): the refined
-  // input is a valid answer, only denser than asked for.
+  // Every clustering broke the topology (features thinner than half the spacing): coarsen by
+  // local edge collapses instead, which keep the topology whatever the wall thickness.
   TriMesh out = subdivide_to_spacing(input, spacing);
+  const double input_edge = mean_edge(out);
+  for (double min_edge = kCollapseEdgePerSpacing * spacing; min_edge > 0.5 * input_edge; min_edge *= 0.85) {
+    // coarsest first; a collapse that folds against the input (the simplified surface cutting
+    // through a wall thinner than its edges) is retried with shorter edges, until there would be
+    // hardly anything left to collapse
+    TriMesh col = collapse_short_edges(out, min_edge);
+    const MeshReport cr = check_mesh(col);
+    if (!cr.valid_solid() || genus(cr) != genus(in_report) || folded_faces(col, input, query) > 0) continue;
+    TriMesh relaxed = col;
+    relax_on_surface(relaxed, query, kRelaxIterations);
+    restore_volume(relaxed, input_volume);
+    if (check_mesh(relaxed).valid_solid() && folded_faces(relaxed, input, query) == 0) {
+      col = std::move(relaxed);
+    } else {
+      restore_volume(col, input_volume);
+      if (!check_mesh(col).valid_solid() || folded_faces(col, input, query) > 0) continue;
+    }
+    st.collapsed = true;
+    st.mean_edge_m = mean_edge(col);
+    if (stats) *stats = st;
+    return col;
+  }
+  // Not even that: the refined input is a valid answer, only denser than asked for.
   st.fell_back = true;
   st.mean_edge_m = mean_edge(out);
   if (stats) *stats = st;

@@ -6,6 +6,9 @@
 namespace ps {
 
 inline constexpr long long kMaxSubdivideFaces = 20'000'000;
+// Edge-collapse fallback: edges shorter than this times the spacing are collapsed, which leaves
+// a mean edge of about the spacing (measured on the hip bone of ../shared/data at 5-12 mm).
+inline constexpr double kCollapseEdgePerSpacing = 0.67;
 
 // Splits every edge longer than max_edge_m at its midpoint (conforming: both faces of an edge
 // share the midpoint) until no edge is longer. The surface geometry, volume, closedness and
@@ -16,7 +19,8 @@ TriMesh subdivide_to_spacing(const TriMesh& mesh, double max_edge_m);
 struct RemeshStats {
   double cell_m = 0.0;        // grid cell that produced the result [m]
   int attempts = 0;           // clusterings tried (1 = the first was manifold)
-  bool fell_back = false;     // no clustering was manifold: result is the (subdivided) input
+  bool collapsed = false;     // no clustering was manifold: result from edge collapse instead
+  bool fell_back = false;     // neither worked: result is the (subdivided) input
   double mean_edge_m = 0.0;   // mean edge length of the result [m]
 };
 
@@ -29,7 +33,12 @@ struct RemeshStats {
 // reject if any face is folded against the input. A failed attempt is retried with shifted and
 // then finer grids (down to half the spacing). Components smaller than a cell vanish. If no
 // attempt works (features thinner than the spacing, e.g. a thin bone wall), the input refined to
-// spacing_m is returned and stats->fell_back is set. The input must be a valid solid
+// spacing_m is coarsened by edge collapse (collapse_short_edges, edges shorter than
+// kCollapseEdgePerSpacing x spacing_m, retried with 15 % shorter edges while the result
+// folds against the input, down to half the refined input's mean edge; then relaxed and volume-restored as above when that stays
+// valid) and stats->collapsed is set: the result may then be denser than asked for (its mean
+// edge is in stats). If no collapse is a valid solid of the input's genus without folds, the
+// refined input is returned and stats->fell_back is set. The input must be a valid solid
 // (check_mesh(...).valid_solid()); otherwise std::invalid_argument with the check summary.
 TriMesh remesh_to_spacing(const TriMesh& closed_surface, double spacing_m,
                           RemeshStats* stats = nullptr);
