@@ -75,9 +75,10 @@ struct AnatomyParams {
   // Pelvic fat / connective tissue: a block around the organs. Its inferior face is the perineal
   // skin plane (z = fat_min.z); the other faces stand for the pelvic walls. The part above the
   // bladder dome (91.4 mm) stands for the lower abdominal contents the filling dome rises into:
-  // 32.6 mm of it, more than the dome's 31 mm rise when the bladder doubles (bladder_filling.yaml).
-  // With 15 mm (fat_max.z = 106 mm, one lattice layer) the doubled dome lifted that layer ~20 mm
-  // out of the block and its particles kept vibrating at 0.1-0.5 m/s (docs/anatomy.md).
+  // 32.6 mm of it (three 10 mm fat lattice layers), more than the dome's ~20 mm rise when the
+  // bladder doubles (bladder_filling.yaml). With 14.6 mm (fat_max.z = 106 mm: one lattice layer
+  // under the surface layer) the doubled dome made those particles vibrate at 0.1-0.5 m/s
+  // without settling (docs/anatomy.md).
   Vec3 fat_min = Vec3(-60e-3, -70e-3, -62e-3);  // [m]
   Vec3 fat_max = Vec3(60e-3, 56e-3, 124e-3);    // [m]
   double fat_edge = 12.0e-3;                     // edge length of the block mesh [m]

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
@@ -388,11 +389,23 @@ TriMesh repair_closed_surface(TriMesh mesh, const std::string& file, RepairStats
   for (size_t f = 0; f < m.faces.size(); ++f) {
     const double a = face_area(m, m.faces[f]);
     if (!(a >= area_tol) || a == 0.0)
-      throw InputError(file, 0, "", "degenerate face " + std::to_string(orig[f]) + " (area " +
-                                        std::to_string(a) + " m^2): vertices " +
-                                        std::to_string(mesh.faces[orig[f]][0]) + ", " +
+    {
+      // positions as well as indices: importers may renumber vertices (assimp splits and the
+      // import merges them), the coordinates identify the face in the file
+      char area[64];
+      std::snprintf(area, sizeof area, "%.3g", a);
+      std::string where;
+      for (int k = 0; k < 3; ++k) {
+        const Vec3& x = mesh.vertices[mesh.faces[orig[f]][k]];
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%s(%.6g, %.6g, %.6g)", k ? ", " : "", x.x(), x.y(), x.z());
+        where += buf;
+      }
+      throw InputError(file, 0, "", "degenerate (zero-area) face " + std::to_string(orig[f]) + " (area " + area +
+                                        " m^2): vertices " + std::to_string(mesh.faces[orig[f]][0]) + ", " +
                                         std::to_string(mesh.faces[orig[f]][1]) + ", " +
-                                        std::to_string(mesh.faces[orig[f]][2]));
+                                        std::to_string(mesh.faces[orig[f]][2]) + " at " + where + " m");
+    }
   }
 
   // 5. Consistent orientation by a breadth-first walk over the (now all two-face) edges.

@@ -37,5 +37,30 @@ TEST(PhantomProstate, StaysAtRestUnloaded) {
   EXPECT_LE(volume_errors(m, sim.state()).at("prostate"), 1e-12);
 }
 
+// The hip bone of ../shared/data (units unstated, decimetres plausible; walls thinner than a
+// 7 mm grid) imported as a rigid obstacle: the particle count follows the chosen spacing (edge
+// collapse, since grid clustering breaks its thin walls), and it becomes one kinematic body.
+TEST(SharedBone, ImportsAsARigidComponentAtTheChosenSpacing) {
+  const std::string obj = std::string(PROSTATESIM_SHARED_DATA) + "/pelvis_bone/pelvis_f.obj";
+  auto yaml = [&](const char* spacing) {
+    return std::string("name: bone\n"
+                       "time: {dt_ms: 1, substeps: 1}\n"
+                       "materials:\n"
+                       "  bone: {young_kpa: 1.0e7, density_kg_m3: 1900}\n"
+                       "components:\n"
+                       "  - {name: hip, type: rigid, kinematic: true, material: bone, fill: surface, spacing_mm: ") +
+           spacing + ", mesh: {file: \"" + obj + "\", units: dm}}\n";
+  };
+  const auto m5 = compile_scenario(parse_scenario_text(yaml("5"), "bone.yaml"));
+  const auto m7 = compile_scenario(parse_scenario_text(yaml("7"), "bone.yaml"));
+  ASSERT_EQ(m7->rigid_bodies.size(), 1u);
+  EXPECT_TRUE(m7->rigid_bodies[0].kinematic);
+  // the file has 4884 vertices; 7 mm gives ~1.6k particles, 5 mm more
+  EXPECT_LT(m7->particle_count(), 2500);
+  EXPECT_GT(m7->particle_count(), 800);
+  EXPECT_GT(m5->particle_count(), m7->particle_count());
+  EXPECT_NEAR(m7->surfaces[0].rest_volume, 230.77e-6, 0.01 * 230.77e-6);   // volume kept [m^3]
+}
+
 }  // namespace
 }  // namespace ps

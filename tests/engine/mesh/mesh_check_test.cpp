@@ -211,7 +211,7 @@ TEST(MeshCheck, RepairRefusesWhatIsNotSafe) {
   sliver.faces.push_back({8, 1, 5});
   sliver.faces.push_back({0, 1, 8});   // zero area, closes 0-8-1 against edge 0-1
   EXPECT_TRUE(check_mesh(sliver).closed()) << check_mesh(sliver).summary();
-  EXPECT_NE(refusal(sliver).find("degenerate face 13"), std::string::npos) << refusal(sliver);
+  EXPECT_NE(refusal(sliver).find("degenerate (zero-area) face 13"), std::string::npos) << refusal(sliver);
 
   TriMesh nan = cube();
   nan.vertices[3].x() = NAN;
