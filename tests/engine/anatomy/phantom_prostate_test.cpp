@@ -3,6 +3,8 @@
 // gravity or loads it stays at rest.
 #include <gtest/gtest.h>
 
+#include "engine/mesh/mesh_query.h"
+#include "engine/model/material.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/run.h"
@@ -60,6 +62,44 @@ TEST(SharedBone, ImportsAsARigidComponentAtTheChosenSpacing) {
   EXPECT_GT(m7->particle_count(), 800);
   EXPECT_GT(m5->particle_count(), m7->particle_count());
   EXPECT_NEAR(m7->surfaces[0].rest_volume, 230.77e-6, 0.01 * 230.77e-6);   // volume kept [m^3]
+}
+
+// A tumour given as a closed mesh (the phantom's internal chamber inner_0.stl, 5.1-5.7 cm^3)
+// inside the phantom gland: its own component and material (k_e from E, k_c, k_f), the gland
+// filled around it (exclude_inside) and linked to it. The needle tool counts a component named
+// "tumour" as tumour in biopsy cores.
+TEST(PhantomProstate, ClosedMeshTumourHasItsOwnMaterialInsideTheGland) {
+  const std::string d = std::string(PROSTATESIM_SHARED_DATA) + "/prostate_phantom/";
+  const std::string yaml =
+      "name: phantom_tumour\n"
+      "time: {dt_ms: 1, substeps: 8}\n"
+      "gravity_m_s2: [0, 0, 0]\n"
+      "materials:\n"
+      "  gland: {young_kpa: 40, density_kg_m3: 1050, k_c_n: 1.5, k_f_n: 0.5}\n"
+      "  cancer: {young_kpa: 100, density_kg_m3: 1050, k_c_n: 2.5, k_f_n: 0.8}\n"
+      "components:\n"
+      "  - {name: tumour, material: cancer, spacing_mm: 4, mesh: {file: \"" + d + "inner_0.stl\", units: mm}}\n"
+      "  - {name: prostate, material: gland, spacing_mm: 4, mesh: {file: \"" + d + "prostate.stl\", units: mm}, exclude_inside: [tumour]}\n"
+      "links:\n"
+      "  - {a: prostate, b: tumour, distance_mm: 5}\n";
+  const auto model = compile_scenario(parse_scenario_text(yaml, "phantom_tumour.yaml"));
+  const Model& m = *model;
+  const Component& t = m.components[m.find_component("tumour")];
+  const Component& g = m.components[m.find_component("prostate")];
+  ASSERT_GT(t.particle_count, 20);
+  for (int p = t.first_particle; p < t.first_particle + t.particle_count; ++p) {
+    EXPECT_DOUBLE_EQ(m.k_e[p], shape_memory_stiffness(100e3, 4e-3));
+    EXPECT_DOUBLE_EQ(m.k_c[p], 2.5);
+    EXPECT_DOUBLE_EQ(m.k_f[p], 0.8);   // [N per mm of shaft]
+  }
+  EXPECT_DOUBLE_EQ(m.k_e[g.first_particle], shape_memory_stiffness(40e3, 4e-3));
+  // no gland particle inside the tumour's surface
+  TriMesh ts;
+  ts.vertices = m.rest_pos;
+  ts.faces = m.surfaces[t.surface].faces;
+  const MeshQuery q(ts);
+  for (int p = g.first_particle; p < g.first_particle + g.particle_count; ++p) ASSERT_FALSE(q.inside(m.rest_pos[p])) << p;
+  EXPECT_NEAR(signed_volume(ts) * 1e6, 5.4, 0.5);   // cm^3 (README: 5.1-5.7)
 }
 
 }  // namespace
