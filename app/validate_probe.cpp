@@ -130,6 +130,7 @@ std::vector<ValidationCase> probe_validation_cases() {
                          rows.push_back({name, "probe reaction force |F|", s.probe_force.norm(), kNaN, "N", 0.0});
                        } else {
                          mm("prostate base inferior (-z)", -d.base.mean_vec.z());
+                         mm("prostate base posterior (-y)", -d.base.mean_vec.y());
                          mm("prostate apex inferior (-z)", -d.apex.mean_vec.z());
                        }
                        return rows;
