@@ -7,30 +7,24 @@
 //  - BM_ProbeStep: the whole Simulation::step with the probe (and its volume alternation).
 #include <benchmark/benchmark.h>
 
-#include "engine/scenario/compile.h"
-#include "engine/scenario/parse_yaml.h"
-#include "engine/tools/probe.h"
+#include "tests/engine/tools/probe_scene.h"
 
 namespace ps::bench {
+
+namespace test = ps::test;
 namespace {
 
-struct ProbeScene {
-  std::shared_ptr<const Model> m;
-  std::unique_ptr<Simulation> sim;
-  ProbeTool* probe = nullptr;
+struct ProbeBench {
+  test::ProbeScene scene;
   State snapshot;
 };
 
-ProbeScene& probe_scene(ProbeBroadPhase b) {
-  static ProbeScene scenes[2];
-  ProbeScene& s = scenes[static_cast<int>(b)];
+test::ProbeScene& probe_scene(ProbeBroadPhase b, State*& snapshot) {
+  static ProbeBench benches[2];
+  ProbeBench& pb = benches[static_cast<int>(b)];
+  test::ProbeScene& s = pb.scene;
   if (!s.sim) {
-    const ScenarioSpec spec = parse_scenario_file(std::string(PROSTATESIM_SOURCE_DIR) + "/config/validation/probe_pelvis_box.yaml");
-    s.m = compile_scenario(spec);
-    s.sim = std::make_unique<Simulation>(s.m);
-    auto p = make_probe_tool(spec, *s.m);
-    s.probe = p.get();
-    s.sim->add_tool(std::move(p));
+    s = test::build_probe_scene(false);
     ProbePose t = s.probe->pose();
     t.offset = Vec3(0, 0.006, 0);
     t.tilt = 0.0698;  // 4 deg
@@ -38,7 +32,8 @@ ProbeScene& probe_scene(ProbeBroadPhase b) {
     for (int i = 0; i < 80; ++i) s.sim->tick();
   }
   s.probe->set_broad_phase(b);
-  s.snapshot = s.sim->state();
+  pb.snapshot = s.sim->state();
+  snapshot = &pb.snapshot;
   return s;
 }
 
@@ -48,39 +43,42 @@ void restore(State& s, const State& from) {
 }
 
 void BM_ProbeCandidates(benchmark::State& state, ProbeBroadPhase b) {
-  ProbeScene& s = probe_scene(b);
+  State* snap = nullptr;
+  test::ProbeScene& s = probe_scene(b, snap);
   State& st = s.sim->state();
   const double h = s.m->dt / s.m->substeps;
   for (auto _ : state) {
-    restore(st, s.snapshot);
+    restore(st, *snap);
     s.probe->constraints(*s.m, st, h);
     benchmark::DoNotOptimize(st.x.data());
   }
   state.counters["contacts"] = s.probe->contact_count();
   state.counters["tested"] = s.probe->near_count();
   state.counters["bvh_triangles"] = s.probe->fcl_triangle_count();
-  restore(st, s.snapshot);
+  restore(st, *snap);
 }
 
 void BM_ProbeRestoreOnly(benchmark::State& state) {
-  ProbeScene& s = probe_scene(ProbeBroadPhase::Box);
+  State* snap = nullptr;
+  test::ProbeScene& s = probe_scene(ProbeBroadPhase::Box, snap);
   State& st = s.sim->state();
   for (auto _ : state) {
-    restore(st, s.snapshot);
+    restore(st, *snap);
     benchmark::DoNotOptimize(st.x.data());
   }
 }
 
 void BM_ProbeStep(benchmark::State& state, ProbeBroadPhase b) {
-  ProbeScene& s = probe_scene(b);
+  State* snap = nullptr;
+  test::ProbeScene& s = probe_scene(b, snap);
   const double h = s.m->dt / s.m->substeps;
   int k = 0;
   for (auto _ : state) {
-    if (++k == 200) { s.sim->state() = s.snapshot; k = 0; }  // stay in the settled contact state
+    if (++k == 200) { s.sim->state() = *snap; k = 0; }  // stay in the settled contact state
     if (!s.sim->step(h)) { state.SkipWithError("step faulted"); break; }
   }
   state.counters["particles"] = s.m->particle_count();
-  s.sim->state() = s.snapshot;
+  s.sim->state() = *snap;
 }
 
 BENCHMARK_CAPTURE(BM_ProbeCandidates, fcl, ProbeBroadPhase::Fcl);

@@ -3,12 +3,11 @@
 // issue's bad input (probe outside the rectum or in bone, target volume <= 0, too fast a fill)
 // giving exit 2 naming file:line and field, or a clamped and reported value.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "tests/app/run_cli.h"
 
@@ -17,18 +16,8 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kSource = PROSTATESIM_SOURCE_DIR;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("prostatesim_cli_probe_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-std::string read(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+fs::path temp_dir(const std::string& name) { return ps::test::cli_temp_dir("probe_" + name); }
+std::string read(const fs::path& p) { return ps::test::read_text(p); }
 int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
 // The probe test scene with one substring replaced, written to dir/name.

@@ -10,11 +10,8 @@
 #include <thread>
 
 #include "engine/realtime/command_apply.h"
-#include "engine/scenario/compile.h"
-#include "engine/scenario/parse_yaml.h"
-#include "engine/tools/filling.h"
-#include "engine/tools/probe.h"
 #include "tests/engine/counting_allocator.h"
+#include "tests/engine/tools/probe_scene.h"
 
 namespace ps {
 namespace {
@@ -57,25 +54,8 @@ TEST(CommandQueue, FifoFullIsRefusedAtOnceAndNothingAllocates) {
   EXPECT_THROW(CommandQueue(0), std::invalid_argument);
 }
 
-struct Scene {
-  std::shared_ptr<const Model> m;
-  std::unique_ptr<Simulation> sim;
-  ProbeTool* probe = nullptr;
-  FillingTool* filling = nullptr;
-};
-Scene make_scene() {
-  Scene s;
-  const ScenarioSpec spec = parse_scenario_file(std::string(PROSTATESIM_SOURCE_DIR) + "/config/validation/probe_pelvis_box.yaml");
-  s.m = compile_scenario(spec);
-  s.sim = std::make_unique<Simulation>(s.m);
-  auto p = make_probe_tool(spec, *s.m);
-  s.probe = p.get();
-  s.sim->add_tool(std::move(p));
-  auto f = make_filling_tool(spec, *s.m);
-  s.filling = f.get();
-  s.sim->add_tool(std::move(f));
-  return s;
-}
+using Scene = test::ProbeScene;
+Scene make_scene() { return test::build_probe_scene(true); }
 
 // The script: small probe moves every 2 ticks (push toward the prostate and tilt), a fill rate
 // and a fill target for the bladder, several commands sharing a tick.

@@ -8,25 +8,15 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <numbers>
-#include <sstream>
 
-#include "engine/scenario/compile.h"
-#include "engine/scenario/parse_yaml.h"
 #include "engine/util/error.h"
+#include "tests/engine/tools/probe_scene.h"
 
 namespace ps {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-
-std::string read_scene() {
-  std::ifstream in(std::string(PROSTATESIM_SOURCE_DIR) + "/config/validation/probe_pelvis_box.yaml");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 std::string mm3(const Vec3& v) {
   char b[128];
@@ -34,39 +24,22 @@ std::string mm3(const Vec3& v) {
   return b;
 }
 
-struct Scene {
-  std::shared_ptr<const Model> m;
-  std::unique_ptr<Simulation> sim;
-  ProbeTool* probe = nullptr;
-  NeedleTool* needles = nullptr;
-};
-
 // The probe scene with one 18G needle starting on `path`.
-Scene scene_with_needle(const NeedlePath& path) {
-  const std::string y = read_scene() + "needles:\n  instruments:\n    - {name: n1, preset: biopsy_18g, start_mm: " +
+test::ProbeScene scene_with_needle(const NeedlePath& path) {
+  const std::string y = test::probe_scene_yaml() + "needles:\n  instruments:\n    - {name: n1, preset: biopsy_18g, start_mm: " +
                         mm3(path.entry) + ", direction: " + mm3(path.direction * 1e3) + "}\n";
-  const ScenarioSpec spec = parse_scenario_text(y, "guide.yaml");
-  Scene s;
-  s.m = compile_scenario(spec);
-  s.sim = std::make_unique<Simulation>(s.m);
-  auto n = make_needle_tool(s.m, spec.needles);
-  s.needles = n.get();
-  s.sim->add_tool(std::move(n));
-  auto p = make_probe_tool(spec, *s.m);
-  s.probe = p.get();
-  s.sim->add_tool(std::move(p));
-  return s;
+  return test::build_probe_scene(parse_scenario_text(y, "guide.yaml"), false);
 }
 
 NeedlePath rest_path(bool guide, int col = 0, int row = 0) {
-  const ScenarioSpec spec = parse_scenario_text(read_scene(), "guide.yaml");
+  const ScenarioSpec spec = parse_scenario_file(test::probe_scene_path());
   auto m = compile_scenario(spec);
   ProbeTool probe(*spec.probe, *m);
   return guide ? probe.biopsy_guide() : probe.template_hole(col, row);
 }
 
 TEST(ProbeGuide, BiopsyNeedleFollowsTheGuideAsTheProbeTilts) {
-  Scene s = scene_with_needle(rest_path(true));
+  test::ProbeScene s = scene_with_needle(rest_path(true));
   ASSERT_NE(s.needles, nullptr);
   ProbePose target = s.probe->pose();
   target.tilt = 5 * kDeg;
@@ -98,7 +71,7 @@ TEST(ProbeGuide, BiopsyNeedleFollowsTheGuideAsTheProbeTilts) {
 }
 
 TEST(ProbeGuide, TemplateNeedleRunsParallelToTheProbeAndIgnoresTheStepper) {
-  Scene s = scene_with_needle(rest_path(false, 6, 0));
+  test::ProbeScene s = scene_with_needle(rest_path(false, 6, 0));
   const NeedlePath h0 = s.probe->template_hole(6, 0);
   ProbePose target = s.probe->pose();
   target.insertion += 0.005;  // the stepper moves the probe 5 mm through the template

@@ -16,44 +16,23 @@
 #include "engine/tools/filling.h"
 #include "engine/util/error.h"
 #include "tests/engine/counting_allocator.h"
+#include "tests/engine/tools/probe_scene.h"
 
 namespace ps {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-std::string scene_path() { return std::string(PROSTATESIM_SOURCE_DIR) + "/config/validation/probe_pelvis_box.yaml"; }
-
-struct Scene {
-  ScenarioSpec spec;
-  std::shared_ptr<const Model> m;
-  std::unique_ptr<Simulation> sim;
-  ProbeTool* probe = nullptr;
-  FillingTool* filling = nullptr;
-  double worst_penetration = 0.0;  // deepest movable tissue particle inside the probe after any tick [m]
-};
+using Scene = test::ProbeScene;
 
 // The test scene; `edit` may change the spec before compiling; filling only when asked.
 template <class Edit>
 Scene make_scene(Edit edit, bool with_filling = false) {
-  Scene s;
-  s.spec = parse_scenario_file(scene_path());
-  edit(s.spec);
-  s.m = compile_scenario(s.spec);
-  s.sim = std::make_unique<Simulation>(s.m);
-  auto p = make_probe_tool(s.spec, *s.m);
-  s.probe = p.get();
-  s.sim->add_tool(std::move(p));
-  if (with_filling) {
-    auto f = make_filling_tool(s.spec, *s.m);
-    s.filling = f.get();
-    s.sim->add_tool(std::move(f));
-  }
-  return s;
+  ScenarioSpec spec = parse_scenario_file(test::probe_scene_path());
+  edit(spec);
+  return test::build_probe_scene(spec, with_filling);
 }
-Scene make_scene(bool with_filling = false) {
-  return make_scene([](ScenarioSpec&) {}, with_filling);
-}
+Scene make_scene(bool with_filling = false) { return test::build_probe_scene(with_filling); }
 
 // Deepest penetration of a movable (not fixed, not rigid) particle into the probe, computed
 // from the state and the probe's frame, not from the tool's read-out [m].
