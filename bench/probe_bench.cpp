@@ -4,7 +4,8 @@
 //  - BM_ProbeCandidates: finding the substep's candidates and projecting them (the probe's
 //    constraints hook on a scene state restored every iteration; the restore is a copy into
 //    sized vectors, BM_ProbeRestoreOnly measures it alone);
-//  - BM_ProbeStep: the whole Simulation::step with the probe (and its volume alternation).
+//  - BM_ProbeStep: the whole Simulation::step with the probe (and its volume alternation);
+//  - BM_ProbeCandidatesBiopsy: the hook in the default anatomy (below).
 #include <benchmark/benchmark.h>
 
 #include "tests/engine/tools/probe_scene.h"
@@ -81,6 +82,26 @@ void BM_ProbeStep(benchmark::State& state, ProbeBroadPhase b) {
   s.sim->state() = *snap;
 }
 
+// The default biopsy anatomy (config/biopsy.yaml, 3664 particles; the probe pushes every soft
+// component, so the BVH holds the prostate, bladder, rectum and fat surfaces and the pubic
+// arch's), probe at its start pose 5 mm clear of the wall: the cost of finding that nothing
+// touches, the common case.
+void BM_ProbeCandidatesBiopsy(benchmark::State& state, ProbeBroadPhase b) {
+  static test::ProbeScene s = test::build_probe_scene(parse_scenario_file(std::string(PROSTATESIM_SOURCE_DIR) + "/config/biopsy.yaml"), false);
+  s.probe->set_broad_phase(b);
+  State& st = s.sim->state();
+  const double h = s.m->dt / s.m->substeps;
+  for (auto _ : state) {
+    s.probe->constraints(*s.m, st, h);
+    benchmark::DoNotOptimize(st.x.data());
+  }
+  state.counters["particles"] = s.m->particle_count();
+  state.counters["tested"] = s.probe->near_count();
+  state.counters["bvh_triangles"] = s.probe->fcl_triangle_count();
+}
+
+BENCHMARK_CAPTURE(BM_ProbeCandidatesBiopsy, fcl, ProbeBroadPhase::Fcl);
+BENCHMARK_CAPTURE(BM_ProbeCandidatesBiopsy, box, ProbeBroadPhase::Box);
 BENCHMARK_CAPTURE(BM_ProbeCandidates, fcl, ProbeBroadPhase::Fcl);
 BENCHMARK_CAPTURE(BM_ProbeCandidates, box, ProbeBroadPhase::Box);
 BENCHMARK(BM_ProbeRestoreOnly);

@@ -284,8 +284,12 @@ void ProbeTool::find_candidates(const State& s) {
       const int i = cand_of_[p];
       if (!near_mark_[i]) { near_mark_[i] = 1; near_.push_back(i); }
     }
-  for (int i : loose_)
-    if (!near_mark_[i]) { near_mark_[i] = 1; near_.push_back(i); }
+  for (int i : loose_) {  // interior particles: the capsule's box
+    const Vec3& x = s.x[cand_[i]];
+    if ((x.array() < lo_.array()).any() || (x.array() > hi_.array()).any()) continue;
+    near_mark_[i] = 1;
+    near_.push_back(i);
+  }
   for (int i : near_) near_mark_[i] = 0;
   std::sort(near_.begin(), near_.end());  // candidate order, as the box pass: identical sums
 }

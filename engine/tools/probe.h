@@ -44,9 +44,9 @@
 // first, then the prostate, fat, bladder and bone surfaces when they are in the contact set) is
 // refitted to the particles' positions and queried with fcl::collide against an fcl::Capsule
 // kProbeQueryMargin wider than the probe, once per substep at the start of constraints(); the
-// vertices of the triangles it returns are the candidates of that substep. A particle inside the
-// probe is a vertex of a triangle that intersects it, so the query misses none; particles on no
-// such surface (interior particles of volumetric components) are always candidates. The exact
+// vertices of the triangles with a corner inside that capsule are the candidates of that
+// substep, so the query misses no surface particle; particles on no such surface (interior
+// particles of volumetric components) are candidates when inside the capsule's bounding box. The exact
 // projection below then acts on the candidates only: FCL finds the contacts, the analytic
 // capsule distance resolves them, so the 0.1 mm guarantee does not depend on FCL's GJK
 // tolerance. The margin (1 mm) covers what the volume alternation and the engine's volume stage
