@@ -108,7 +108,9 @@ class ProbeTool final : public Tool {
   int fcl_triangle_count() const { return fcl_ ? static_cast<int>(fcl_->faces().size()) : 0; }
   int near_count() const { return static_cast<int>(near_.size()); }  // candidates tested last substep
 
-  // --- commands (between ticks, never during a step) ---
+  // --- commands (between ticks, never during a step; the physics thread only: from another
+  // thread push a Command through engine/realtime/command_queue.h, applied by
+  // engine/realtime/command_apply.h) ---
   // Moves every pose field to `target` over `duration` [s] from the end of the last substep.
   // Returns the duration used (lengthened to the speed limits, then reported). Throws
   // InputError (field "probe.move_to") for a non-finite target, a tilt/yaw beyond 45 degrees or
