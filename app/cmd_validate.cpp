@@ -1,12 +1,15 @@
 // `prostatesim validate [CASE...] [--json FILE]`: runs validation cases, prints a table
 // (case, metric, value, reference, unit) and exits 0 when every row is within its tolerance,
 // 1 otherwise. --json writes the same rows as an array of objects with exactly those five keys.
+// --out DIR: where cases write per-particle files (the probe and filling cases'
+// <case>_displacement.csv); default out/validate.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/validate_probe.h"
 #include "app/validation.h"
 #include "engine/util/atomic_file.h"
 #include "engine/util/error.h"
@@ -20,6 +23,7 @@ struct ValidateArgs {
   std::string json;
   std::string root;   // repository root (config/validation inside)
   std::string data;   // ../shared/data
+  std::string out = "out/validate";  // per-particle files of the cases
 };
 
 std::string find_root(const std::string& given) {
@@ -41,10 +45,13 @@ void add_validate_command(CLI::App& app, Runner& run) {
   sub->add_option("--json", args->json, "also write the rows as a JSON array to this file");
   sub->add_option("--root", args->root, "repository root holding config/validation (default: found from the working directory)");
   sub->add_option("--data", args->data, "reference data folder (default: ROOT/../shared/data)");
+  sub->add_option("--out", args->out, "folder for per-particle files (probe/filling cases: <case>_displacement.csv)")
+      ->capture_default_str();
   sub->callback([args, &run] {
     run = [args]() -> int {
       const std::string root = find_root(args->root);
       const std::string data = args->data.empty() ? root + "/../shared/data" : args->data;
+      set_displacement_output_dir(args->out);
       std::vector<const ValidationCase*> chosen;
       for (const std::string& name : args->cases) {
         const ValidationCase* found = nullptr;

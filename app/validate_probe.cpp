@@ -2,6 +2,8 @@
 #include "app/validate_probe.h"
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -88,6 +90,16 @@ DisplacementStudy run_displacement_study(const std::string& source_dir, const st
   return st;
 }
 
+namespace {
+std::string& output_dir() {
+  static std::string dir = "out/validate";
+  return dir;
+}
+}  // namespace
+
+void set_displacement_output_dir(const std::string& dir) { output_dir() = dir; }
+const std::string& displacement_output_dir() { return output_dir(); }
+
 void write_study_csv(const DisplacementStudy& study, const std::string& path) {
   write_displacement_csv(path, *study.model, -1, study.ref, study.x, Vec3::UnitZ());
 }
@@ -97,6 +109,10 @@ std::vector<ValidationCase> probe_validation_cases() {
   auto add = [&](const std::string& name, const std::string& description, bool probe_moves) {
     cases.push_back({name, description, [name, probe_moves](const std::string& root, const std::string&) {
                        const DisplacementStudy s = run_displacement_study(root, name);
+                       std::filesystem::create_directories(displacement_output_dir());
+                       const std::string csv = displacement_output_dir() + "/" + name + "_displacement.csv";
+                       write_study_csv(s, csv);
+                       std::printf("%-18s per-particle displacement: %s\n", name.c_str(), csv.c_str());
                        const DisplacementStats& d = s.prostate;
                        std::vector<ValidationRow> rows;
                        auto mm = [&](const std::string& metric, double v) { rows.push_back({name, metric, v * 1e3, kNaN, "mm", 0.0}); };
@@ -114,6 +130,7 @@ std::vector<ValidationCase> probe_validation_cases() {
                          rows.push_back({name, "probe reaction force |F|", s.probe_force.norm(), kNaN, "N", 0.0});
                        } else {
                          mm("prostate base inferior (-z)", -d.base.mean_vec.z());
+                         mm("prostate base posterior (-y)", -d.base.mean_vec.y());
                          mm("prostate apex inferior (-z)", -d.apex.mean_vec.z());
                        }
                        return rows;

@@ -30,8 +30,13 @@ struct DisplacementStudy {
 // on a simulation fault).
 DisplacementStudy run_displacement_study(const std::string& source_dir, const std::string& name);
 // Per-particle displacement file of the study (engine/tools/displacement_field.h CSV), every
-// component, zones along +z.
+// component, zones along +z, written atomically.
 void write_study_csv(const DisplacementStudy& study, const std::string& path);
+
+// Folder where the validation cases write <case>_displacement.csv (created when written).
+// Default "out/validate", relative to the working directory; `prostatesim validate --out DIR`.
+void set_displacement_output_dir(const std::string& dir);
+const std::string& displacement_output_dir();
 
 std::vector<ValidationCase> probe_validation_cases();
 

@@ -42,7 +42,8 @@ class FillingTool final : public Tool {
   const char* name() const override { return "filling"; }
   void boundary_conditions(const Model& m, State& s, double dt) override;
 
-  // --- live commands (between ticks) ---
+  // --- live commands (between ticks, on the physics thread; from another thread push a Command
+  // through engine/realtime/command_queue.h, applied by engine/realtime/command_apply.h) ---
   // Constant rate [m^3/s] from now until the volume range ends it; returns the rate used.
   double set_rate(const std::string& component, double rate);
   // Linear change to target [m^3] over duration [s]; returns the duration used.

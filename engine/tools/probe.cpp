@@ -152,6 +152,25 @@ ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), recta
   }
   hit_.assign(cand_.size(), 0);
 
+  // broad phase: FCL over the surfaces of the components that hold candidates
+  cand_of_.assign(m.particle_count(), -1);
+  for (size_t i = 0; i < cand_.size(); ++i) cand_of_[cand_[i]] = static_cast<int>(i);
+  std::vector<std::array<int, 3>> faces;
+  std::vector<uint8_t> on_bvh(m.particle_count(), 0);
+  for (const Surface& sf : m.surfaces) {
+    if (sf.faces.empty() || cand_of_[sf.faces[0][0]] < 0) continue;  // a component's surface: all or none
+    for (const auto& f : sf.faces) {
+      faces.push_back(f);
+      for (int p : f) on_bvh[p] = 1;
+    }
+  }
+  for (size_t i = 0; i < cand_.size(); ++i)
+    if (!on_bvh[cand_[i]]) loose_.push_back(static_cast<int>(i));
+  if (!faces.empty()) fcl_ = std::make_unique<FclSurfaceContact>(faces, m.rest_pos);
+  else broad_ = ProbeBroadPhase::Box;
+  near_.reserve(cand_.size());
+  near_mark_.assign(cand_.size(), 0);
+
   // imposed mode: rectum candidate -> prostate particles within couple_distance at rest
   couple_start_.assign(cand_.size() + 1, 0);
   if (spec.imposed_mode) {
@@ -215,8 +234,8 @@ void ProbeTool::advance_to(double t) {
   now_ = t;
   frame_ = probe_frame(spec_, rectal_, pose_);
   const Capsule& c = frame_.capsule;
-  lo_ = c.back.cwiseMin(c.tip) - Vec3::Constant(c.radius);
-  hi_ = c.back.cwiseMax(c.tip) + Vec3::Constant(c.radius);
+  lo_ = c.back.cwiseMin(c.tip) - Vec3::Constant(c.radius + kProbeQueryMargin);  // box broad phase
+  hi_ = c.back.cwiseMax(c.tip) + Vec3::Constant(c.radius + kProbeQueryMargin);
 }
 
 double ProbeTool::move_to(const ProbePose& target, double duration) {
@@ -246,15 +265,42 @@ void ProbeTool::add_reaction(const Vec3& x_new, const Vec3& dx, double mass, dou
   torque_acc_ += (x_new - frame_.pivot).cross(f);
 }
 
+void ProbeTool::find_candidates(const State& s) {
+  near_.clear();
+  const size_t nc = cand_.size();
+  if (broad_ == ProbeBroadPhase::Box) {
+    for (size_t i = 0; i < nc; ++i) {
+      const Vec3& x = s.x[cand_[i]];
+      if ((x.array() < lo_.array()).any() || (x.array() > hi_.array()).any()) continue;
+      near_.push_back(static_cast<int>(i));
+    }
+    return;
+  }
+  const Capsule& c = frame_.capsule;
+  fcl_->refit(s.x);
+  fcl_->collide_capsule(c.back, c.tip, c.radius + kProbeQueryMargin);
+  for (int f : fcl_->hits())
+    for (int p : fcl_->faces()[f]) {
+      const int i = cand_of_[p];
+      if (!near_mark_[i]) { near_mark_[i] = 1; near_.push_back(i); }
+    }
+  for (int i : loose_) {  // interior particles: the capsule's box
+    const Vec3& x = s.x[cand_[i]];
+    if ((x.array() < lo_.array()).any() || (x.array() > hi_.array()).any()) continue;
+    near_mark_[i] = 1;
+    near_.push_back(i);
+  }
+  for (int i : near_) near_mark_[i] = 0;
+  std::sort(near_.begin(), near_.end());  // candidate order, as the box pass: identical sums
+}
+
 double ProbeTool::contact_pass(const Model& m, State& s, double inv_dt2) {
   const Capsule& c = frame_.capsule;
   double max_dx = 0.0;
-  const size_t nc = cand_.size();
-  for (size_t i = 0; i < nc; ++i) {
+  for (const int i : near_) {
     if (!movable_[i]) continue;
     const int p = cand_[i];
     const Vec3& x = s.x[p];
-    if ((x.array() < lo_.array()).any() || (x.array() > hi_.array()).any()) continue;
     Vec3 q;
     const double d = capsule_signed_distance(c, x, &q);
     if (d >= 0.0) continue;
@@ -308,6 +354,7 @@ void ProbeTool::constraints(const Model& m, State& s, double dt) {
   std::fill(hit_.begin(), hit_.end(), 0);
   contacts_ = 0;
   imposed_ = 0;
+  find_candidates(s);
   contact_pass(m, s, inv_dt2);
   if (spec_.imposed_mode) imposed_pass(m, s, inv_dt2);
   if (!volume_coupled_) return;
@@ -325,10 +372,8 @@ void ProbeTool::after_step(const Model& m, State& s, double) {
   const Capsule& c = frame_.capsule;
   double pen = 0.0;
   int blocked = 0;
-  const size_t nc = cand_.size();
-  for (size_t i = 0; i < nc; ++i) {
+  for (const int i : near_) {  // this substep's candidates (see the broad phase in probe.h)
     const Vec3& x = s.x[cand_[i]];
-    if ((x.array() < lo_.array()).any() || (x.array() > hi_.array()).any()) continue;
     const double d = capsule_signed_distance(c, x);
     if (d >= 0.0) continue;
     if (movable_[i]) pen = std::max(pen, -d);

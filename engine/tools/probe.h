@@ -39,9 +39,22 @@
 // triangle between two particles resting on the probe may sag into it by about h^2 / (8 r)
 // (0.3 mm for h = 5 mm, r = 10 mm).
 //
-// Broad phase: an axis-aligned box around the capsule, then the exact analytic capsule distance.
-// FCL is not used: for particles against one capsule it adds nothing over this O(n) loop and its
-// broad-phase managers allocate; the loop is allocation-free.
+// Broad phase (which particles to test): FCL (DEFAULT, engine/tools/fcl_surface.h). One FCL
+// BVH (OBB) over the surface triangles of every component the probe may touch (the rectal wall
+// first, then the prostate, fat, bladder and bone surfaces when they are in the contact set) is
+// refitted to the particles' positions and queried with fcl::collide against an fcl::Capsule
+// kProbeQueryMargin wider than the probe, once per substep at the start of constraints(); the
+// vertices of the triangles with a corner inside that capsule are the candidates of that
+// substep, so the query misses no surface particle; particles on no such surface (interior
+// particles of volumetric components) are candidates when inside the capsule's bounding box. The exact
+// projection below then acts on the candidates only: FCL finds the contacts, the analytic
+// capsule distance resolves them, so the 0.1 mm guarantee does not depend on FCL's GJK
+// tolerance. The margin (1 mm) covers what the volume alternation and the engine's volume stage
+// move particles after the query (measured below 1 um), and after_step() reads the penetration
+// over the same candidates. No allocation per query (fcl_surface.h says how). The previous
+// analytic broad phase (an axis-aligned box around the capsule, then the capsule distance, over
+// every candidate) is kept as ProbeBroadPhase::Box for comparison; both give bit-identical
+// states (tested) and their cost is measured in bench/probe_bench.cpp (docs/performance.md).
 //
 // Reaction force (force feedback read-out): a contact correction dx_p of a particle of mass m_p
 // over a substep dt stands for a force m_p dx_p / dt^2 applied by the probe (in quasi-static
@@ -61,6 +74,7 @@
 #include <vector>
 
 #include "engine/step/simulation.h"
+#include "engine/tools/fcl_surface.h"
 #include "engine/tools/probe_geometry.h"
 
 namespace ps {
@@ -68,6 +82,12 @@ namespace ps {
 inline constexpr double kProbePenetrationTolerance = 1e-4;  // [m] guaranteed after every substep
 inline constexpr int kProbeVolumeIterations = 4;            // contact <-> volume alternations
 inline constexpr double kProbeMaxTiltRad = 0.7853981633974483;  // |tilt|, |yaw| <= 45 deg
+inline constexpr double kProbeQueryMargin = 1e-3;           // [m] FCL query: probe radius + this
+
+enum class ProbeBroadPhase : uint8_t {
+  Fcl,   // default: FCL BVH over the contact surfaces, refitted and queried every substep
+  Box,   // every candidate, axis-aligned box around the capsule (reference, benchmarks)
+};
 
 class ProbeTool final : public Tool {
  public:
@@ -82,7 +102,15 @@ class ProbeTool final : public Tool {
   void constraints(const Model& m, State& s, double dt) override;
   void after_step(const Model& m, State& s, double dt) override;
 
-  // --- commands (between ticks, never during a step) ---
+  // Broad phase used from the next substep on (default Fcl). Between ticks.
+  void set_broad_phase(ProbeBroadPhase b) { broad_ = fcl_ ? b : ProbeBroadPhase::Box; }
+  ProbeBroadPhase broad_phase() const { return broad_; }
+  int fcl_triangle_count() const { return fcl_ ? static_cast<int>(fcl_->faces().size()) : 0; }
+  int near_count() const { return static_cast<int>(near_.size()); }  // candidates tested last substep
+
+  // --- commands (between ticks, never during a step; the physics thread only: from another
+  // thread push a Command through engine/realtime/command_queue.h, applied by
+  // engine/realtime/command_apply.h) ---
   // Moves every pose field to `target` over `duration` [s] from the end of the last substep.
   // Returns the duration used (lengthened to the speed limits, then reported). Throws
   // InputError (field "probe.move_to") for a non-finite target, a tilt/yaw beyond 45 degrees or
@@ -117,6 +145,7 @@ class ProbeTool final : public Tool {
   static ProbePose evaluate(const Move& mv, double t);
   double min_duration(const ProbePose& a, const ProbePose& b) const;  // speed limits [s]
   void advance_to(double t);
+  void find_candidates(const State& s);                               // fills near_
   double contact_pass(const Model& m, State& s, double inv_dt2);  // returns max correction [m]
   void imposed_pass(const Model& m, State& s, double inv_dt2);
   void add_reaction(const Vec3& x_new, const Vec3& dx, double mass, double inv_dt2);
@@ -136,6 +165,13 @@ class ProbeTool final : public Tool {
   std::vector<uint8_t> movable_;   // [cand] 0: held by the scene (fixed, imposed, rigid)
   std::vector<uint8_t> hit_;       // [cand] corrected this substep
   bool volume_coupled_ = false;    // a candidate or target is on a volume-constrained surface
+  // broad phase
+  ProbeBroadPhase broad_ = ProbeBroadPhase::Fcl;
+  std::unique_ptr<FclSurfaceContact> fcl_;  // null when no candidate lies on a surface
+  std::vector<int> cand_of_;       // [particle] candidate index, -1 if none
+  std::vector<int> loose_;         // candidates on no surface of the BVH (always tested)
+  std::vector<int> near_;          // candidates tested this substep (capacity: all)
+  std::vector<uint8_t> near_mark_; // [cand] scratch: in near_
   // imposed mode: candidate -> coupled target slots (CSR), state per slot
   std::vector<int> couple_start_;  // [cand + 1]
   std::vector<int> couple_slot_;

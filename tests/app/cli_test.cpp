@@ -17,19 +17,8 @@ namespace fs = std::filesystem;
 using Result = ps::test::CliResult;
 Result run(const std::string& args) { return ps::test::run_cli(args); }
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("prostatesim_cli_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string read(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+fs::path temp_dir(const std::string& name) { return ps::test::cli_temp_dir(name); }
+std::string read(const fs::path& p) { return ps::test::read_text(p); }
 
 const std::string kSource = PROSTATESIM_SOURCE_DIR;
 

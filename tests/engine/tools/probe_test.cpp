@@ -5,7 +5,6 @@
 #include "engine/tools/probe.h"
 
 #include <gtest/gtest.h>
-#include <malloc.h>
 
 #include <cmath>
 #include <numbers>
@@ -16,44 +15,24 @@
 #include "engine/tools/displacement_field.h"
 #include "engine/tools/filling.h"
 #include "engine/util/error.h"
+#include "tests/engine/counting_allocator.h"
+#include "tests/engine/tools/probe_scene.h"
 
 namespace ps {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-std::string scene_path() { return std::string(PROSTATESIM_SOURCE_DIR) + "/config/validation/probe_pelvis_box.yaml"; }
-
-struct Scene {
-  ScenarioSpec spec;
-  std::shared_ptr<const Model> m;
-  std::unique_ptr<Simulation> sim;
-  ProbeTool* probe = nullptr;
-  FillingTool* filling = nullptr;
-  double worst_penetration = 0.0;  // deepest movable tissue particle inside the probe after any tick [m]
-};
+using Scene = test::ProbeScene;
 
 // The test scene; `edit` may change the spec before compiling; filling only when asked.
 template <class Edit>
 Scene make_scene(Edit edit, bool with_filling = false) {
-  Scene s;
-  s.spec = parse_scenario_file(scene_path());
-  edit(s.spec);
-  s.m = compile_scenario(s.spec);
-  s.sim = std::make_unique<Simulation>(s.m);
-  auto p = make_probe_tool(s.spec, *s.m);
-  s.probe = p.get();
-  s.sim->add_tool(std::move(p));
-  if (with_filling) {
-    auto f = make_filling_tool(s.spec, *s.m);
-    s.filling = f.get();
-    s.sim->add_tool(std::move(f));
-  }
-  return s;
+  ScenarioSpec spec = parse_scenario_file(test::probe_scene_path());
+  edit(spec);
+  return test::build_probe_scene(spec, with_filling);
 }
-Scene make_scene(bool with_filling = false) {
-  return make_scene([](ScenarioSpec&) {}, with_filling);
-}
+Scene make_scene(bool with_filling = false) { return test::build_probe_scene(with_filling); }
 
 // Deepest penetration of a movable (not fixed, not rigid) particle into the probe, computed
 // from the state and the probe's frame, not from the tool's read-out [m].
@@ -368,15 +347,36 @@ TEST(ProbeContact, SameCommandsGiveBitIdenticalStates) {
   EXPECT_EQ(h[0], h[1]);
 }
 
-TEST(ProbeContact, StepWithProbeAndFillingDoesNotGrowTheHeap) {
-  // engine_tests' counting operator new is private to simulation_test.cpp; here the heap in use
-  // must not change over many substeps with contact, volume alternation and filling
+TEST(ProbeContact, StepWithProbeAndFillingDoesNotAllocate) {
+  // counting allocator over many substeps with contact (FCL refit + query every substep),
+  // volume alternation and filling
   Scene s = make_scene(true);
   s.probe->move_to(pushed(*s.probe, 0.005, 3 * kDeg), 0.0);
   run(s, 5);
-  const size_t before = mallinfo2().uordblks;
+  ASSERT_EQ(s.probe->broad_phase(), ProbeBroadPhase::Fcl);
+  const long before = test::allocation_count();
   for (int i = 0; i < 30; ++i) ASSERT_TRUE(s.sim->tick());
-  EXPECT_EQ(mallinfo2().uordblks, before);
+  EXPECT_EQ(test::allocation_count() - before, 0);
+  EXPECT_GT(s.probe->contact_count(), 0);
+}
+
+TEST(ProbeContact, FclAndBoxBroadPhasesGiveBitIdenticalStates) {
+  // FCL finds the candidates, the analytic projection moves them: the same particles move the
+  // same way as with the box over every candidate, so the states hash alike
+  uint64_t h[2];
+  int tested[2];
+  for (int k = 0; k < 2; ++k) {
+    Scene s = make_scene(true);
+    s.probe->set_broad_phase(k == 0 ? ProbeBroadPhase::Fcl : ProbeBroadPhase::Box);
+    s.probe->move_to(pushed(*s.probe, 0.006, 4 * kDeg), 0.0);
+    run(s, 60);
+    h[k] = hash_state(s.sim->state());
+    tested[k] = s.probe->near_count();
+    EXPECT_GT(s.probe->contact_count(), 10);
+    EXPECT_LT(s.worst_penetration, kProbePenetrationTolerance);
+  }
+  EXPECT_EQ(h[0], h[1]);
+  std::printf("particles tested per substep at the end: FCL %d, box %d\n", tested[0], tested[1]);
 }
 
 // ---- bad input --------------------------------------------------------------------------------

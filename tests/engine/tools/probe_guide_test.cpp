@@ -1,0 +1,91 @@
+// Needles carried by the probe: a biopsy needle held in the probe's guide follows the guide as
+// the probe tilts (commanded tip exactly on the guide line, direction at the clinical angle to the
+// probe axis, the tip dragged onto it once the probe stops), and a brachytherapy needle in a
+// template hole runs parallel to the probe and stays put when the probe is stepped in.
+#include "engine/tools/probe_guide.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "engine/util/error.h"
+#include "tests/engine/tools/probe_scene.h"
+
+namespace ps {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+std::string mm3(const Vec3& v) {
+  char b[128];
+  std::snprintf(b, sizeof b, "[%.6f, %.6f, %.6f]", v.x() * 1e3, v.y() * 1e3, v.z() * 1e3);
+  return b;
+}
+
+// The probe scene with one 18G needle starting on `path`.
+test::ProbeScene scene_with_needle(const NeedlePath& path) {
+  const std::string y = test::probe_scene_yaml() + "needles:\n  instruments:\n    - {name: n1, preset: biopsy_18g, start_mm: " +
+                        mm3(path.entry) + ", direction: " + mm3(path.direction * 1e3) + "}\n";
+  return test::build_probe_scene(parse_scenario_text(y, "guide.yaml"), false);
+}
+
+NeedlePath rest_path(bool guide, int col = 0, int row = 0) {
+  const ScenarioSpec spec = parse_scenario_file(test::probe_scene_path());
+  auto m = compile_scenario(spec);
+  ProbeTool probe(*spec.probe, *m);
+  return guide ? probe.biopsy_guide() : probe.template_hole(col, row);
+}
+
+TEST(ProbeGuide, BiopsyNeedleFollowsTheGuideAsTheProbeTilts) {
+  test::ProbeScene s = scene_with_needle(rest_path(true));
+  ASSERT_NE(s.needles, nullptr);
+  ProbePose target = s.probe->pose();
+  target.tilt = 5 * kDeg;
+  s.probe->move_to(target, 0.0);  // at the scene's speed limit: ~42 ms
+  const double depth = 0.002;     // 2 mm out of the guide: still in the rectal lumen
+  for (int k = 0; k < 80; ++k) {
+    hold_needle_in_biopsy_guide(*s.needles, 0, *s.probe, depth);
+    const NeedlePath g = s.probe->biopsy_guide();
+    ASSERT_TRUE(s.sim->tick()) << s.sim->state().fault.describe(*s.m);
+    const NeedleReadout& r = s.needles->readout(0);
+    // commanded exactly on the guide (as it was at the start of the tick) at the clinical angle
+    ASSERT_NEAR((r.command_tip - (g.entry + depth * g.direction)).norm(), 0.0, 1e-15) << "tick " << k;
+    ASSERT_NEAR((r.direction - g.direction).norm(), 0.0, 1e-15);
+  }
+  const NeedlePath g = s.probe->biopsy_guide();
+  EXPECT_NEAR(std::acos(g.direction.dot(s.probe->frame().axis())) / kDeg, 20.0, 1e-9);
+  EXPECT_NEAR(s.probe->pose().tilt, 5 * kDeg, 1e-15);
+  // the guide moved with the probe and the tip followed it
+  const NeedlePath g0 = rest_path(true);
+  EXPECT_GT((g.entry - g0.entry).norm(), 1e-3);
+  const NeedleReadout& r = s.needles->readout(0);
+  const double lag = (r.tip - (g.entry + depth * g.direction)).norm();
+  std::printf("guide exit moved %.2f mm; tip %.3f mm from the guide point, tissue force on the needle %.3f N\n",
+              (g.entry - g0.entry).norm() * 1e3, lag * 1e3, r.tissue_force.norm());
+  // the tip follows the guide; what lag remains is the coupling spring (2 N/mm) holding the
+  // tissue's pull on the needle (the tilted guide brings the tip against the rectal wall)
+  EXPECT_LT(lag, 0.25 * (g.entry - g0.entry).norm());
+  EXPECT_LT(lag, r.tissue_force.norm() / s.needles->spec(0).coupling_stiffness + 1e-4);
+}
+
+TEST(ProbeGuide, TemplateNeedleRunsParallelToTheProbeAndIgnoresTheStepper) {
+  test::ProbeScene s = scene_with_needle(rest_path(false, 6, 0));
+  const NeedlePath h0 = s.probe->template_hole(6, 0);
+  ProbePose target = s.probe->pose();
+  target.insertion += 0.005;  // the stepper moves the probe 5 mm through the template
+  s.probe->move_to(target, 0.0);
+  for (int k = 0; k < 60; ++k) {
+    hold_needle_in_template_hole(*s.needles, 0, *s.probe, 6, 0, 0.0);
+    ASSERT_TRUE(s.sim->tick()) << s.sim->state().fault.describe(*s.m);
+  }
+  const NeedleReadout& r = s.needles->readout(0);
+  EXPECT_NEAR((r.direction - s.probe->frame().axis()).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((r.command_tip - h0.entry).norm(), 0.0, 1e-15);  // the template did not move
+  EXPECT_NEAR(s.probe->pose().insertion, target.insertion, 1e-15);
+  EXPECT_THROW(hold_needle_in_template_hole(*s.needles, 0, *s.probe, 13, 0, 0.0), InputError);
+}
+
+}  // namespace
+}  // namespace ps
