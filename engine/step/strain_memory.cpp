@@ -1,0 +1,109 @@
+// Strain-memory force (docs/model.md "Strain memory"): per-particle-cluster meshless
+// co-rotational elasticity, the shape matching of Müller et al. 2005 with its energy split into
+// an affine part that sees the strain and a non-affine rest. For cluster c (Model::strain):
+//   F = sum_i (x_i - x_c) q_i^T,  R = polar rotation of F,  J = det F,  r_i = x_i - x_c - F d0_i
+//   E_c = mu2v/2 |F - R|^2 + k_v/2 (J - 1)^2 + k_r/2 sum_i |r_i|^2
+//   f_i = -P q_i - k_r r_i,   P = mu2v (F - R) + k_v (J - 1) cof F      (first Piola stress x V)
+// This is exactly -dE_c/dx_i: dF/dx_i = I (x) q_i because sum_i q_i = S^-1 sum_i d0_i = 0; the
+// residual r is the orthogonal projection of the positions onto the non-affine motions, so its
+// energy's gradient is r itself; and R enters only through |F - R|^2, at its minimum over
+// rotations (envelope theorem: no dR/dx term). sum_i f_i = 0 (sum q_i = sum r_i = 0): momentum is
+// conserved; the energy is invariant under rotations, so angular momentum is too.
+//
+// The paper's attractor P* reproduces any affine map of a symmetric neighbourhood, so the
+// shape-memory force alone leaves the interior blind to uniform strain; this term is what gives
+// the interior its stiffness (docs/model.md).
+//
+// R: Müller, Bender, Chentanez, Macklin 2016, "A robust method to extract the rotational part of
+// deformations": R <- exp(omega) R with omega = sum_k R_k x F_k / (|sum_k R_k . F_k| + eps), warm
+// started from the previous substep's rotation (State::strain_rot), stopped when |omega| < 1e-9
+// rad or after kPolarIterations. It always returns a proper rotation, also for inverted (J < 0)
+// or collapsed clusters (F = 0 leaves R unchanged), and it maximises tr(R^T F), so it is the polar
+// rotation whenever det F > 0. Deterministic: fixed order, fixed iteration rule, no allocation.
+#include <cmath>
+
+#include "engine/step/stages.h"
+
+namespace ps {
+
+namespace {
+
+constexpr int kPolarIterations = 8;       // cap; warm-started clusters need 1-2
+constexpr double kPolarTolerance = 1e-9;  // |omega| [rad] below which R is converged
+
+// Müller et al. 2016, Algorithm 1 (columns of F and R).
+inline void extract_rotation(const Mat3& F, Quat& q, int max_iter) {
+  for (int it = 0; it < max_iter; ++it) {
+    const Mat3 R = q.toRotationMatrix();
+    const Vec3 num = R.col(0).cross(F.col(0)) + R.col(1).cross(F.col(1)) + R.col(2).cross(F.col(2));
+    const double den = std::abs(R.col(0).dot(F.col(0)) + R.col(1).dot(F.col(1)) + R.col(2).dot(F.col(2))) + 1e-9;
+    const Vec3 omega = num / den;
+    const double w = omega.norm();
+    if (!(w >= kPolarTolerance)) break;  // converged (or NaN: leave R, the check reports it)
+    q = Quat(Eigen::AngleAxisd(w, omega / w)) * q;
+    q.normalize();
+  }
+}
+
+}  // namespace
+
+void add_strain_memory_forces(const Model& m, State& s, int polar_iterations) {
+  const StrainClusters& sc = m.strain;
+  const int nc = sc.count();
+  const int iters = polar_iterations > 0 ? polar_iterations : kPolarIterations;
+  for (int c = 0; c < nc; ++c) {
+    const int b = sc.start[c], e = sc.start[c + 1];
+    Vec3 xc = Vec3::Zero();
+    for (int a = b; a < e; ++a) xc += s.x[sc.member[a]];
+    xc /= static_cast<double>(e - b);
+    Mat3 F = Mat3::Zero(), Fls = Mat3::Zero();
+    for (int a = b; a < e; ++a) {
+      const Vec3 d = s.x[sc.member[a]] - xc;
+      F.noalias() += d * sc.g[a].transpose();
+      Fls.noalias() += d * sc.q[a].transpose();
+    }
+    extract_rotation(F, s.strain_rot[c], iters);
+    const Mat3 R = s.strain_rot[c].toRotationMatrix();
+    Mat3 P = sc.mu2v[c] * (F - R);
+    if (sc.k_v[c] != 0.0) {
+      Mat3 cof;  // cofactor matrix of F: dJ/dF, defined also where F is singular
+      cof.col(0) = F.col(1).cross(F.col(2));
+      cof.col(1) = F.col(2).cross(F.col(0));
+      cof.col(2) = F.col(0).cross(F.col(1));
+      const double J = F.col(0).dot(cof.col(0));
+      P += sc.k_v[c] * (J - 1.0) * cof;
+    }
+    const double kr = sc.k_r[c];
+    for (int a = b; a < e; ++a) {
+      const int i = sc.member[a];
+      const Vec3 r = (s.x[i] - xc) - Fls * sc.d0[a];
+      s.f[i] -= P * sc.g[a] + kr * r;
+    }
+  }
+}
+
+double strain_memory_energy(const Model& m, const State& s) {
+  const StrainClusters& sc = m.strain;
+  double energy = 0.0;
+  for (int c = 0; c < sc.count(); ++c) {
+    const int b = sc.start[c], e = sc.start[c + 1];
+    Vec3 xc = Vec3::Zero();
+    for (int a = b; a < e; ++a) xc += s.x[sc.member[a]];
+    xc /= static_cast<double>(e - b);
+    Mat3 F = Mat3::Zero(), Fls = Mat3::Zero();
+    for (int a = b; a < e; ++a) {
+      F += (s.x[sc.member[a]] - xc) * sc.g[a].transpose();
+      Fls += (s.x[sc.member[a]] - xc) * sc.q[a].transpose();
+    }
+    Quat q = s.strain_rot[c];
+    extract_rotation(F, q, 100);  // converged: the energy at its optimal rotation
+    const Mat3 R = q.toRotationMatrix();
+    const double J = F.determinant();
+    double res = 0.0;
+    for (int a = b; a < e; ++a) res += ((s.x[sc.member[a]] - xc) - Fls * sc.d0[a]).squaredNorm();
+    energy += 0.5 * sc.mu2v[c] * (F - R).squaredNorm() + 0.5 * sc.k_v[c] * (J - 1.0) * (J - 1.0) + 0.5 * sc.k_r[c] * res;
+  }
+  return energy;
+}
+
+}  // namespace ps
