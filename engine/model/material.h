@@ -7,7 +7,8 @@
 // factor depends on the spacing. Fitted on the measured truth cylinder (docs/validation.md):
 //   h = 6 mm: kappa = 80 (tip error 3.0 mm),  h = 8 mm: kappa = 30 (tip error 3.6 mm)
 // give the power law below; h = 5 mm is the independent check. Outside 4-10 mm the law is an
-// extrapolation and compile_scenario warns.
+// extrapolation and compile_scenario warns. A material with `model: strain` uses the continuum
+// mapping further down instead (no fit in h; docs/model.md "Strain memory").
 #pragma once
 #include <cmath>
 
