@@ -1,14 +1,16 @@
 // Strain-memory force (docs/model.md "Strain memory"): per-particle-cluster meshless
 // co-rotational elasticity, the shape matching of Müller et al. 2005 with its energy split into
-// an affine part that sees the strain and a non-affine rest. For cluster c (Model::strain):
-//   F = sum_i (x_i - x_c) q_i^T,  R = polar rotation of F,  J = det F,  r_i = x_i - x_c - F d0_i
+// an affine part that sees the strain and a non-affine rest. For cluster c (Model::strain), with
+// g the consistent gradient weights and q = S^-1 d0 the least-squares ones (Sum g = Sum q = 0):
+//   F = sum_i (x_i - x_c) g_i^T,  R = polar rotation of F,  J = det F
+//   F_ls = sum_i (x_i - x_c) q_i^T,  r_i = x_i - x_c - F_ls d0_i
 //   E_c = mu2v/2 |F - R|^2 + k_v/2 (J - 1)^2 + k_r/2 sum_i |r_i|^2
-//   f_i = -P q_i - k_r r_i,   P = mu2v (F - R) + k_v (J - 1) cof F      (first Piola stress x V)
-// This is exactly -dE_c/dx_i: dF/dx_i = I (x) q_i because sum_i q_i = S^-1 sum_i d0_i = 0; the
-// residual r is the orthogonal projection of the positions onto the non-affine motions, so its
+//   f_i = -P g_i - k_r r_i,   P = mu2v (F - R) + k_v (J - 1) cof F      (first Piola stress x V)
+// This is exactly -dE_c/dx_i: dF/dx_i = I (x) g_i because sum_i g_i = 0 (the centroid drops
+// out); r is the orthogonal projection of the positions onto the non-affine motions, so its
 // energy's gradient is r itself; and R enters only through |F - R|^2, at its minimum over
-// rotations (envelope theorem: no dR/dx term). sum_i f_i = 0 (sum q_i = sum r_i = 0): momentum is
-// conserved; the energy is invariant under rotations, so angular momentum is too.
+// rotations (envelope theorem: no dR/dx term). sum_i f_i = 0: momentum is conserved; the energy
+// is invariant under rotations, so angular momentum is too (to the rotation's tolerance).
 //
 // The paper's attractor P* reproduces any affine map of a symmetric neighbourhood, so the
 // shape-memory force alone leaves the interior blind to uniform strain; this term is what gives
@@ -29,7 +31,7 @@ namespace ps {
 
 namespace {
 
-constexpr int kPolarIterations = 8;       // cap; warm-started clusters need 1-2
+constexpr int kPolarIterations = 8;       // cap; warm-started, ~2 are used on average (cube11s)
 constexpr double kPolarTolerance = 1e-9;  // |omega| [rad] below which R is converged
 
 // Rotation maximising tr(R^T F), updated in place from the warm start q; returns R.
