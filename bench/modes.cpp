@@ -42,6 +42,7 @@ bool timed_step(Simulation& sim, double dt, StageTimes& times) {
       case Stage::ImposedDisplacement: apply_imposed_displacements(m, s, s.time); break;
       case Stage::ExternalForces: clear_and_add_external_forces(m, s, s.time); break;
       case Stage::ShapeMemory: add_shape_memory_forces(m, s); break;
+      case Stage::StrainMemory: add_strain_memory_forces(m, s); break;
       case Stage::ActiveFibres: add_active_forces(m, s); break;
       case Stage::RigidForces: gather_rigid_forces(m, s); break;
       case Stage::Integrate: integrate(m, s, dt); break;

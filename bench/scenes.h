@@ -8,6 +8,8 @@
 //                 interior lattice (volumetric_particles, the path a mesh file takes), clamped at
 //                 z = 0, gravity -y: 1300 particles. Surface particles have ~8 neighbours, hence
 //                 many beta triplets (28 per particle).
+//   cube11s       cube 11 with `model: strain` (shape memory + strain memory, docs/model.md);
+//                 cube11si incompressible (local nu = 0.49, volume constraint)
 // Trailing i in a scene name: incompressible (volume constraint on the surface).
 #pragma once
 #include <memory>
@@ -45,6 +47,15 @@ inline std::string cube_scene(int points_per_side, bool incompressible, double d
          "  - fix: {component: cube, region: {box: {min_mm: [-1, -1, -1], max_mm: [100000, 100000, 0.5]}}}\n";
 }
 
+// cube_scene with the material switched to model: strain (the only difference)
+inline std::string strain_cube_scene(int points_per_side, bool incompressible, double damping_1_s = 20) {
+  std::string t = cube_scene(points_per_side, incompressible, damping_1_s);
+  const std::string key = "incompressible: ";
+  const size_t at = t.find(key);
+  const size_t end = t.find('}', at);
+  return t.insert(end, ", model: strain");
+}
+
 inline std::string cylinder_scene(bool incompressible, double damping_1_s = 20) {
   return "name: bench_cylinder\n"
          "time: {dt_ms: 1, substeps: 1, duration_s: 1}\n"
@@ -63,11 +74,13 @@ inline std::shared_ptr<const Model> compile_scene(const std::string& yaml) {
   return compile_scenario(parse_scenario_text(yaml, "bench.yaml"));
 }
 
-// Scenario text by name, for the command-line modes: cube11, cube11i, cube22, cube22i, cyl, cyli
+// Scenario text by name, for the command-line modes: cube11, cube11i, cube11s, cube11si, cube22, cube22i, cyl, cyli
 // (trailing i = incompressible). Empty for an unknown name.
 inline std::string scene_text(const std::string& name, double damping_1_s = 20) {
   if (name == "cube11") return cube_scene(11, false, damping_1_s);
   if (name == "cube11i") return cube_scene(11, true, damping_1_s);
+  if (name == "cube11s") return strain_cube_scene(11, false, damping_1_s);
+  if (name == "cube11si") return strain_cube_scene(11, true, damping_1_s);
   if (name == "cube22") return cube_scene(22, false, damping_1_s);
   if (name == "cube22i") return cube_scene(22, true, damping_1_s);
   if (name == "cyl") return cylinder_scene(false, damping_1_s);

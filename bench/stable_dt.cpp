@@ -83,7 +83,7 @@ std::shared_ptr<const Model> compile_with(const std::string& name, bool gravity)
 int stable_dt_study(int steps) {
   std::printf("stability study: damping 0; linear regime %d substeps from +-1 um noise without gravity, "
               "gravity regime %.2f s from rest\n", steps, kGravityTime);
-  const char* const scenes[] = {"cube11", "cube11i", "cyl", "cyli"};
+  const char* const scenes[] = {"cube11", "cube11i", "cube11s", "cube11si", "cyl", "cyli"};
   const double linear_fractions[] = {0.5, 0.9, 1.0, 1.1, 1.5, 2.0};
   const double gravity_fractions[] = {0.1, 0.25, 0.5, 0.9, 1.0, 1.1, 1.5, 2.0};
   for (const char* name : scenes) {

@@ -53,6 +53,8 @@ void BM_StepStages(benchmark::State& state, const char* scene) {
 
 BENCHMARK_CAPTURE(BM_Step, cube11, "cube11")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Step, cube11i, "cube11i")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Step, cube11s, "cube11s")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Step, cube11si, "cube11si")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Step, cube22, "cube22")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Step, cube22i, "cube22i")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Step, cyl, "cyl")->Unit(benchmark::kMicrosecond);
@@ -60,6 +62,7 @@ BENCHMARK_CAPTURE(BM_Step, cyli, "cyli")->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_CAPTURE(BM_StepStages, cube11, "cube11")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_StepStages, cube11i, "cube11i")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_StepStages, cube11si, "cube11si")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_StepStages, cube22i, "cube22i")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_StepStages, cyli, "cyli")->Unit(benchmark::kMicrosecond);
 

@@ -101,6 +101,30 @@ struct AppliedForce {
   double t0 = 0.0, t1 = 0.0;       // ramp [s]
 };
 
+// Strain memory (engine/step/strain_memory.cpp, docs/model.md): one cluster per particle of a
+// `model: strain` material = the particle plus its neighbours. Per cluster c with members i, rest
+// offsets d0_i from the rest centroid, S = sum d0 d0^T, q_i = S^-1 d0_i, current centroid x_c:
+//   F = sum_i (x_i - x_c) g_i^T   (g = q + a correction orthogonal to affine motions, so that a
+//                                  uniform stress is exactly in equilibrium: strain_clusters.cpp)
+//   F_ls = sum_i (x_i - x_c) q_i^T (least-squares affine fit);  r_i = x_i - x_c - F_ls d0_i
+//   R = rotation of the polar decomposition of F,  J = det F
+//   E_c = mu2v/2 |F - R|^2 + k_v/2 (J - 1)^2 + k_r/2 sum_i |r_i|^2
+// Small strain: mu2v/2 = mu V_c and k_v = lambda V_c give the energy density mu|eps|^2 +
+// lambda/2 (tr eps)^2 of an isotropic linear material (V_c: the particle's volume); k_r resists
+// the non-affine rest of the cluster's motion (hourglass modes).
+struct StrainClusters {
+  std::vector<int> centre;         // [nc] the particle the cluster belongs to
+  std::vector<int> start;          // [nc+1] CSR into member/d0/q
+  std::vector<int> member;         // [nnz] particle index (centre first)
+  std::vector<Vec3> d0;            // [nnz] rest offset from the rest centroid [m]
+  std::vector<Vec3> q;             // [nnz] S^-1 d0: least-squares fit weights [1/m]
+  std::vector<Vec3> g;             // [nnz] q + consistency correction: gradient weights of F [1/m]
+  std::vector<double> mu2v;        // [nc] 2 mu V_c [N m]
+  std::vector<double> k_v;         // [nc] lambda V_c [N m]
+  std::vector<double> k_r;         // [nc] non-affine (residual) stiffness [N/m]
+  int count() const { return static_cast<int>(centre.size()); }
+};
+
 // Active fibre pair: contraction force along the current pair direction.
 struct FibrePair { int a, b; int component; };
 
@@ -137,6 +161,7 @@ struct Model {
   std::vector<BetaTriplet> beta;   // triplets with beta != 0
   std::vector<int> triplet_count;  // [n] valid triplets m_p (statistics, check command)
   std::vector<uint8_t> shape_memory; // [n] 1 if the particle carries a shape-memory force
+  StrainClusters strain;           // strain-memory clusters (empty: no `model: strain` material)
 
   // named particle tags (scenario tags: and prostate_zones:, e.g. "lesion", "base", "peripheral"):
   // bit t of particle_tags[p] is set when particle p carries tag_names[t]

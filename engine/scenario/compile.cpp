@@ -8,6 +8,7 @@
 #include "engine/anatomy/scene_regions.h"
 #include "engine/model/discrete_coordinates.h"
 #include "engine/model/material.h"
+#include "engine/model/strain_clusters.h"
 #include "engine/scenario/particle_set.h"
 #include "engine/scenario/shape_mesh.h"
 #include "engine/step/stages.h"
@@ -90,6 +91,7 @@ double estimate_stable_dt(const Model& m) {
     const double eps = 1e-7 * std::max(scale, 1e-3) / norm;
     for (int p = 0; p < n; ++p) { s.x[p] = m.rest_pos[p] + eps * v[p]; s.f[p].setZero(); }
     add_shape_memory_forces(m, s);
+    if (m.strain.count() > 0) add_strain_memory_forces(m, s, 50);  // R converged at each probe
     double wn = 0.0;
     for (int p = 0; p < n; ++p) {
       for (int a = 0; a < 3; ++a) w[p][a] = free_axis(p, a) ? -s.f[p][a] * m.inv_mass[p] / eps : 0.0;
@@ -161,6 +163,8 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   m.k_c.assign(n, 0.0);
   m.k_f.assign(n, 0.0);
   m.damping.assign(n, 0.0);
+  std::vector<StrainParticle> strain(n);  // strain-model material per particle (mu = 0: none)
+  bool any_strain = false;
   for (size_t ci = 0; ci < spec.components.size(); ++ci) {
     const ComponentSpec& cs = spec.components[ci];
     const MaterialSpec& mat = find_material(spec, cs.material);
@@ -178,8 +182,27 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
     if (!(volume > 0.0))
       throw CompileError("component '" + cs.name + "': surface encloses no positive volume (inverted or open)");
     const double pm = mat.density * volume / comp.particle_count;
-    const double ke = mat.k_e ? *mat.k_e : shape_memory_stiffness(*mat.young, cs.spacing);
-    if (!mat.k_e && (cs.spacing < kCalibratedSpacingMin || cs.spacing > kCalibratedSpacingMax))
+    StrainParticle sp;
+    if (mat.strain_model) {
+      if (!cs.volumetric)
+        throw InputError(spec.file, mat.loc.line, "materials." + mat.name + ".model",
+                         "model: strain needs volumetric components, '" + cs.name + "' is fill: surface");
+      const double nu = mat.poisson ? *mat.poisson : mat.incompressible ? kStrainPoissonIncompressible : kStrainPoissonDefault;
+      if (mat.k_s) {  // raw: mu = k_s / h, lambda from the same local Poisson ratio
+        sp.mu = *mat.k_s / cs.spacing;
+        sp.lambda = 2.0 * sp.mu * nu / (1.0 - 2.0 * nu);
+      } else {
+        const StrainModuli sm = strain_moduli(*mat.young, nu);
+        sp.mu = sm.mu;
+        sp.lambda = sm.lambda;
+      }
+      sp.volume = volume / comp.particle_count;
+      any_strain = true;
+    }
+    const double ke = mat.k_e               ? *mat.k_e
+                      : mat.strain_model    ? strain_shape_memory_stiffness(sp.mu, cs.spacing)
+                                            : shape_memory_stiffness(*mat.young, cs.spacing);
+    if (!mat.k_e && !mat.strain_model && (cs.spacing < kCalibratedSpacingMin || cs.spacing > kCalibratedSpacingMax))
       warnings.push_back("component '" + cs.name + "': spacing " + std::to_string(cs.spacing * 1e3) +
                          " mm is outside the 4-10 mm range where the E -> k_e mapping was calibrated");
     for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p) {
@@ -188,6 +211,7 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
       m.k_c[p] = mat.k_c;
       m.k_f[p] = mat.k_f;
       m.damping[p] = mat.damping;
+      strain[p] = sp;
     }
   }
   for (size_t oi = 0; oi < spec.overrides.size(); ++oi) {
@@ -198,7 +222,16 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
     for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p) {
       if (!o.region.contains(m.rest_pos[p])) continue;
       ++hits;
-      if (o.young) m.k_e[p] = shape_memory_stiffness(*o.young, comp.spacing);
+      if (o.young && strain[p].mu > 0.0) {
+        // strain model: the same local Poisson ratio, the new modulus
+        const double nu = strain[p].lambda / (2.0 * (strain[p].lambda + strain[p].mu));
+        const StrainModuli sm = strain_moduli(*o.young, nu);
+        strain[p].mu = sm.mu;
+        strain[p].lambda = sm.lambda;
+        m.k_e[p] = strain_shape_memory_stiffness(sm.mu, comp.spacing);
+      } else if (o.young) {
+        m.k_e[p] = shape_memory_stiffness(*o.young, comp.spacing);
+      }
       if (o.k_e) m.k_e[p] = *o.k_e;
       if (o.k_c) m.k_c[p] = *o.k_c;
       if (o.k_f) m.k_f[p] = *o.k_f;
@@ -352,6 +385,9 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
     m.components[ci].surface = static_cast<int>(m.surfaces.size());
     m.surfaces.push_back(std::move(s));
   }
+
+  if (any_strain)  // after the surfaces: the clusters' consistency condition uses them
+    for (auto& w : build_strain_clusters(m, strain)) warnings.push_back(w);
 
   // active fibres: neighbour pairs whose rest direction is within 30 degrees of the fibre
   for (size_t ci = 0; ci < m.components.size(); ++ci) {

@@ -82,18 +82,35 @@ RegionSpec parse_region(const YamlReader& r, const YAML::Node& v, const std::str
 
 MaterialSpec parse_material(const YamlReader& r, const std::string& name, const YAML::Node& v) {
   const std::string k = "materials." + name;
-  r.only_keys(v, k, {"young_kpa", "k_e_n_m", "density_kg_m3", "damping_1_s", "incompressible", "k_c_n", "k_f_n"});
+  r.only_keys(v, k, {"young_kpa", "k_e_n_m", "density_kg_m3", "damping_1_s", "incompressible", "k_c_n", "k_f_n",
+                     "model", "poisson", "k_s_n_m"});
   MaterialSpec m;
   m.name = name;
   m.loc = loc_of(r, v);
   if (v["young_kpa"]) m.young = r.positive(v["young_kpa"], k + ".young_kpa") * kKpa;
   if (v["k_e_n_m"]) m.k_e = r.positive(v["k_e_n_m"], k + ".k_e_n_m");
-  if (!m.young && !m.k_e) r.fail(v, k, "give young_kpa (Young's modulus) or k_e_n_m (raw stiffness)");
+  if (!m.young && !m.k_e && !v["k_s_n_m"]) r.fail(v, k, "give young_kpa (Young's modulus) or k_e_n_m (raw stiffness)");
   if (v["density_kg_m3"]) m.density = r.positive(v["density_kg_m3"], k + ".density_kg_m3");
   if (v["damping_1_s"]) m.damping = r.non_negative(v["damping_1_s"], k + ".damping_1_s");
   if (v["incompressible"]) m.incompressible = r.boolean(v["incompressible"], k + ".incompressible");
   if (v["k_c_n"]) m.k_c = r.non_negative(v["k_c_n"], k + ".k_c_n");
   if (v["k_f_n"]) m.k_f = r.non_negative(v["k_f_n"], k + ".k_f_n");
+  if (v["model"]) {
+    const std::string model = r.string(v["model"], k + ".model");
+    if (model == "strain") m.strain_model = true;
+    else if (model != "paper") r.fail(v["model"], k + ".model", "model must be paper or strain");
+  }
+  if (v["poisson"]) {
+    if (!m.strain_model) r.fail(v["poisson"], k + ".poisson", "poisson only applies to model: strain");
+    m.poisson = r.non_negative(v["poisson"], k + ".poisson");
+    if (!(*m.poisson < 0.5)) r.fail(v["poisson"], k + ".poisson", "must be in [0, 0.5)");
+  }
+  if (v["k_s_n_m"]) {
+    if (!m.strain_model) r.fail(v["k_s_n_m"], k + ".k_s_n_m", "k_s_n_m only applies to model: strain");
+    m.k_s = r.positive(v["k_s_n_m"], k + ".k_s_n_m");
+  }
+  if (m.strain_model && !m.young && !m.k_s)
+    r.fail(v, k, "model: strain needs young_kpa or k_s_n_m");
   return m;
 }
 

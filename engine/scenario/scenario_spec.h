@@ -35,6 +35,11 @@ struct MaterialSpec {
   bool incompressible = false;     // volume constraint on the component's closed surface
   double k_c = 0.0;                // needle cutting weight [N]
   double k_f = 0.0;                // needle friction weight [N]
+  // model: paper (shape memory only, k_e = kappa(h) E h) | strain (shape memory + strain memory,
+  // docs/model.md); poisson and k_s only for strain
+  bool strain_model = false;
+  std::optional<double> poisson;   // local Poisson ratio of the strain term [-], in [0, 0.5)
+  std::optional<double> k_s;       // raw strain stiffness: shear modulus x spacing [N/m]
   SourceLoc loc;
 };
 

@@ -20,6 +20,7 @@ State make_state(const Model& model) {
   for (size_t p = 0; p + 1 < model.beta_start.size(); ++p)
     most_triplets = std::max(most_triplets, model.beta_start[p + 1] - model.beta_start[p]);
   s.triplet_scratch.assign(static_cast<size_t>(kTripletScratchFields) * ((most_triplets + 3) / 4 * 4), 0.0);
+  s.strain_rot.assign(model.strain.centre.size(), Quat::Identity());
   s.bodies.resize(model.rigid_bodies.size());
   for (size_t b = 0; b < model.rigid_bodies.size(); ++b) s.bodies[b].com = model.rigid_bodies[b].com_rest;
   s.target_volume.resize(model.surfaces.size());

@@ -50,6 +50,8 @@ struct State {
                                         // one particle its edges, normal, b/|n| and 1/|n|^2
                                         // (kTripletScratchFields x capacity, capacity = the most
                                         // triplets of any particle rounded up to a multiple of 4)
+  std::vector<Quat> strain_rot;         // [strain clusters] rotation of the polar decomposition of
+                                        // the cluster's F at the last substep (warm start)
   StepFault fault;
   int64_t clamp_count = 0;         // times a safety clamp acted
 };

@@ -9,6 +9,7 @@ const char* stage_name(Stage s) {
     case Stage::ImposedDisplacement: return "imposed_displacement";
     case Stage::ExternalForces: return "external_forces";
     case Stage::ShapeMemory: return "shape_memory";
+    case Stage::StrainMemory: return "strain_memory";
     case Stage::ActiveFibres: return "active_fibres";
     case Stage::ToolBoundary: return "tool_boundary";
     case Stage::ToolForces: return "tool_forces";
@@ -47,6 +48,7 @@ void Simulation::build_pipeline() {
   if (tools) pipeline_.push_back(Stage::ToolBoundary);
   pipeline_.push_back(Stage::ExternalForces);
   pipeline_.push_back(Stage::ShapeMemory);
+  if (m.strain.count() > 0) pipeline_.push_back(Stage::StrainMemory);
   if (!m.fibre_pairs.empty()) pipeline_.push_back(Stage::ActiveFibres);
   if (tools) pipeline_.push_back(Stage::ToolForces);
   if (rigid) pipeline_.push_back(Stage::RigidForces);
@@ -72,6 +74,7 @@ bool Simulation::step(double dt) {
       case Stage::ToolBoundary: for (auto& t : tools_) t->boundary_conditions(m, s, dt); break;
       case Stage::ExternalForces: clear_and_add_external_forces(m, s, s.time); break;
       case Stage::ShapeMemory: add_shape_memory_forces(m, s); break;
+      case Stage::StrainMemory: add_strain_memory_forces(m, s); break;
       case Stage::ActiveFibres: add_active_forces(m, s); break;
       case Stage::ToolForces: for (auto& t : tools_) t->forces(m, s, dt); break;
       case Stage::RigidForces: gather_rigid_forces(m, s); break;

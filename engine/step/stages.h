@@ -13,6 +13,12 @@ void apply_imposed_displacements(const Model& m, State& s, double t);
 void clear_and_add_external_forces(const Model& m, State& s, double t);
 // shape_memory.cpp: shape-memory force k_e (P* - P) and its redistribution (paper §3.2)
 void add_shape_memory_forces(const Model& m, State& s);
+// strain_memory.cpp: strain-memory force of every cluster in Model::strain (docs/model.md);
+// polar_iterations caps the rotation iterations (0: the stage's default, warm-started)
+void add_strain_memory_forces(const Model& m, State& s, int polar_iterations = 0);
+// strain_memory.cpp: the energy sum_c E_c whose negative gradient that force is [J] (tests,
+// diagnostics; not used in the step), with each cluster's rotation converged from s.strain_rot
+double strain_memory_energy(const Model& m, const State& s);
 // active.cpp: fibre contraction of active components scaled by State::activation
 void add_active_forces(const Model& m, State& s);
 // rigid.cpp: moves forces of attached elastic particles onto their rigid bodies

@@ -63,6 +63,18 @@ TEST(Simulation, SameScenarioGivesBitIdenticalState) {
   EXPECT_EQ(h[0], h[1]);
 }
 
+TEST(Simulation, NoAllocationInsideStepWithStrainMemory) {
+  Simulation sim(test::compile_text(
+      "name: t\nmaterials:\n  gel: {young_kpa: 10, incompressible: true, model: strain}\ncomponents:\n"
+      "  - {name: b, material: gel, spacing_mm: 10, box: {min_mm: [0,0,0], max_mm: [40,40,40]}}\n"
+      "constraints:\n  - fix: {component: b, region: {box: {min_mm: [-1,-1,-1], max_mm: [41,41,0.5]}}}\n"));
+  ASSERT_NE(std::find(sim.pipeline().begin(), sim.pipeline().end(), Stage::StrainMemory), sim.pipeline().end());
+  ASSERT_TRUE(sim.tick());  // warm
+  const long before = g_allocations.load();
+  for (int i = 0; i < 100; ++i) ASSERT_TRUE(sim.tick());
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
 TEST(Simulation, NoAllocationInsideStep) {
   Simulation sim(test::compile_text(test::cube_yaml(40, 10, true, true, 5)));
   ASSERT_TRUE(sim.tick());  // warm
