@@ -70,9 +70,9 @@ TEST(Simulation, NoAllocationInsideStepWithStrainMemory) {
       "constraints:\n  - fix: {component: b, region: {box: {min_mm: [-1,-1,-1], max_mm: [41,41,0.5]}}}\n"));
   ASSERT_NE(std::find(sim.pipeline().begin(), sim.pipeline().end(), Stage::StrainMemory), sim.pipeline().end());
   ASSERT_TRUE(sim.tick());  // warm
-  const long before = g_allocations.load();
+  const long before = test::allocation_count();
   for (int i = 0; i < 100; ++i) ASSERT_TRUE(sim.tick());
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(test::allocation_count() - before, 0);
 }
 
 TEST(Simulation, NoAllocationInsideStep) {
