@@ -4,22 +4,10 @@
 
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <new>
-
 #include "engine/sim/run.h"
 #include "engine/step/stages.h"
+#include "tests/engine/counting_allocator.h"
 #include "tests/engine/test_scenes.h"
-
-// Counting allocator: every operator new in this test binary bumps the counter.
-static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace ps {
 namespace {
@@ -75,9 +63,9 @@ TEST(Simulation, SameScenarioGivesBitIdenticalState) {
 TEST(Simulation, NoAllocationInsideStep) {
   Simulation sim(test::compile_text(test::cube_yaml(40, 10, true, true, 5)));
   ASSERT_TRUE(sim.tick());  // warm
-  const long before = g_allocations.load();
+  const long before = test::allocations();
   for (int i = 0; i < 100; ++i) ASSERT_TRUE(sim.tick());
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(test::allocations() - before, 0);
 }
 
 TEST(Simulation, PipelineSkipsStagesTheSceneDoesNotNeed) {
