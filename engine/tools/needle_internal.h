@@ -101,6 +101,7 @@ struct NeedleTool::Needle {
   NeedleZoneStats stats;
   // seeds and core
   std::vector<SeedState> seeds;
+  double deepest = -1e300;               // deepest tip position along the planned line so far [m]
   CoreState core;
   std::vector<uint8_t> tumour;           // [components] counts as tumour in a core
   uint64_t tumour_tags = 0;              // tag bits that count as tumour

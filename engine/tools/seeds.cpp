@@ -4,23 +4,33 @@
 // an AffineAnchor (discrete deformation coordinates, needle_anchor.h) over the nearest tissue
 // particles of the needle's tube, so it is carried by the tissue afterwards, rotation and local
 // deformation included. Planned vs actual: planned = start + depth * direction.
+// A seed is armed once the tip has come within kSeedArm of its planned depth: a needle that
+// recoils on its way in (a surface giving way ahead of it, another needle's puncture nearby)
+// moves back for a few substeps, and that is not the pull-back (it dropped every seed at the
+// perineum in the two-needle brachytherapy scene). kSeedArm covers the tip's lag behind the
+// command (coupling spring) when a seed is planned at the deepest scripted depth.
 #include <algorithm>
 
 #include "engine/tools/needle_internal.h"
 
 namespace ps {
 
+namespace {
+constexpr double kSeedArm = 2e-3;  // [m]
+}  // namespace
+
 void update_seeds(NeedleTool::Needle& nd, const Model& m, const State& s, NeedleEventRing& events) {
   if (nd.seeds.empty()) return;
   // carried by the tissue
   for (SeedState& sd : nd.seeds)
     if (sd.deposited && sd.embedded) sd.current = sd.anchor.evaluate(s.x);
+  const double t_tip = plan_depth(nd);
+  nd.deepest = std::max(nd.deepest, t_tip);
   const bool retracting = nd.V.dot(nd.d) < -1e-5;
   if (!retracting) return;
-  const double t_tip = plan_depth(nd);
   for (size_t k = 0; k < nd.seeds.size(); ++k) {
     SeedState& sd = nd.seeds[k];
-    if (sd.deposited || t_tip > sd.depth) continue;
+    if (sd.deposited || t_tip > sd.depth || nd.deepest < sd.depth - kSeedArm) continue;
     sd.deposited = true;
     sd.time = s.time;
     sd.at = nd.T;

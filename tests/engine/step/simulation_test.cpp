@@ -4,9 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <new>
-
 #include "engine/sim/run.h"
 #include "engine/step/stages.h"
 #include "tests/engine/counting_allocator.h"

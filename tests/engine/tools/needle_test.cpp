@@ -4,13 +4,12 @@
 
 #include <gtest/gtest.h>
 
-#include <malloc.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
 #include "engine/tools/needle_output.h"
+#include "tests/engine/counting_allocator.h"
 #include "tests/engine/tools/needle_scenes.h"
 
 namespace ps {
@@ -216,9 +215,9 @@ TEST(Needle, TwentyNeedlesInsertTogetherEachWithItsOwnZonesWithoutAllocating) {
   auto s = make_needle_scene(block_yaml(o, needles));
   ASSERT_EQ(s.tool->count(), 20);
   ASSERT_TRUE(run(s, 0.05));
-  const size_t heap0 = mallinfo2().uordblks;
+  const long allocs0 = test::allocation_count();
   ASSERT_TRUE(run(s, 0.6)) << s.sim->state().fault.describe(*s.model);
-  EXPECT_EQ(mallinfo2().uordblks, heap0) << "heap in use changed during needle steps";
+  EXPECT_EQ(test::allocation_count() - allocs0, 0) << "operator new called during needle steps";
   int punctured = 0;
   for (int i = 0; i < 20; ++i) {
     EXPECT_GT(s.tool->readout(i).engaged_nodes, 0) << "needle " << i;
@@ -231,6 +230,29 @@ TEST(Needle, TwentyNeedlesInsertTogetherEachWithItsOwnZonesWithoutAllocating) {
   // (zones are 4 mm balls around nodes 5 mm apart: they may touch, never coincide)
   const auto a = s.tool->zone_particles(0, 2), b = s.tool->zone_particles(1, 2);
   EXPECT_NE(a, b);
+}
+
+TEST(Needle, HooksDoNotAllocateThroughPunctureStickSlipSeedsBoneAndClamp) {
+  // every needle code path inside ticks, counted by the test binary's operator new: first
+  // contact and puncture, cutting and friction, the tip stopped on bone (FCL), stick -> slip on
+  // the pull-back, seeds deposited and embedded, then an absurd command clamped
+  BlockOptions o;
+  o.young_kpa = 15;
+  o.extra_components =
+      "  - {name: pubis, type: rigid, material: bone, spacing_mm: 4, box: {min_mm: [-12, -12, -40], max_mm: [12, 12, -28]}}\n";
+  auto s = make_needle_scene(block_yaml(
+      o, vertical_needle("n", 1.3, 0.9, "[[0, 0], [1.0, 31], [1.2, 31], [2.0, 8]]",
+                         "      seeds_mm: [20, 15, 10]\n      static_ratio: 1.5\n")));
+  ASSERT_TRUE(s.sim->tick());  // warm-up: one tick before counting
+  const long before = test::allocation_count();
+  ASSERT_TRUE(run(s, 2.0)) << s.sim->state().fault.describe(*s.model);
+  s.tool->command(0, Vec3(1.3e-3, 0.9e-3, -1.0), Vec3(0, 0, -1));  // between ticks
+  ASSERT_TRUE(run(s, 0.02)) << s.sim->state().fault.describe(*s.model);
+  EXPECT_EQ(test::allocation_count() - before, 0) << "operator new called inside needle ticks";
+  for (NeedleEventKind k : {NeedleEventKind::Contact, NeedleEventKind::Puncture, NeedleEventKind::BoneHit,
+                            NeedleEventKind::Slip, NeedleEventKind::Seed, NeedleEventKind::ForceClamped})
+    EXPECT_GT(count_events(*s.tool, k), 0) << "path not exercised: " << needle_event_name(k);
+  for (const SeedReport& r : s.tool->seeds()) EXPECT_TRUE(r.embedded) << r.index;
 }
 
 TEST(Needle, ZoneUpdateCostDoesNotGrowWithTheScene) {

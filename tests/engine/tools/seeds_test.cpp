@@ -61,5 +61,24 @@ TEST(Seeds, DepositedWhileRetractingThenCarriedByTheTissue) {
   EXPECT_EQ(seed_events, 3);
 }
 
+TEST(Seeds, AStepBackOnTheWayInDepositsNothing) {
+  // the needle backs off 1 mm at 8 mm (as when a surface gives way or a neighbour punctures),
+  // then goes on to 17 mm and is pulled back: the seeds leave only on the real pull-back, each
+  // where the tip returns to its planned depth (the first build dropped them all at the step back)
+  test::BlockOptions o;
+  o.young_kpa = 15;
+  auto s = test::make_needle_scene(test::block_yaml(
+      o, test::vertical_needle("b", 1.3, 0.9, "[[0, 0], [0.5, 8], [0.6, 7], [1.1, 17], [1.3, 17], [2.1, 2]]",
+                               "      seeds_mm: [15, 11]\n")));
+  for (int i = 0; i < 700; ++i) ASSERT_TRUE(s.sim->tick());
+  for (const SeedReport& r : s.tool->seeds()) EXPECT_FALSE(r.deposited) << "seed " << r.index << " at the step back";
+  for (int i = 0; i < 1400; ++i) ASSERT_TRUE(s.sim->tick());
+  for (const SeedReport& r : s.tool->seeds()) {
+    EXPECT_TRUE(r.deposited) << r.index;
+    EXPECT_GT(r.time, 1.3) << r.index;
+    EXPECT_LT((r.deposited_at - r.planned).norm(), 2.5e-3) << r.index;
+  }
+}
+
 }  // namespace
 }  // namespace ps

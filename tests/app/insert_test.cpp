@@ -1,0 +1,106 @@
+// `prostatesim insert` as a user runs it (app/cmd_insert.cpp): the per-needle force-vs-depth CSV
+// and the event, seed and core files; bad needle input exits 2 naming file:line and the field,
+// writing nothing; an absurd push is clamped and reported, not a blow-up.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "tests/app/run_cli.h"
+#include "tests/engine/tools/needle_scenes.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using ps::test::BlockOptions;
+using ps::test::block_yaml;
+using ps::test::run_cli;
+using ps::test::vertical_needle;
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("prostatesim_insert_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+long lines(const std::string& s) { return std::count(s.begin(), s.end(), '\n'); }
+
+TEST(Insert, WritesForceDepthPerNeedleEventsSeedsAndCores) {
+  const fs::path dir = temp_dir("ok");
+  const fs::path scen = dir / "block.yaml";
+  std::ofstream(scen) << block_yaml(BlockOptions{},
+                                    vertical_needle("a", 1.3, 0.9, "[[0, 0], [0.6, 12], [0.7, 12], [0.9, 6]]", "      seeds_mm: [9]\n") +
+                                        vertical_needle("b", -6.7, 0.9, "[[0, 0], [0.6, 14]]"));
+  const fs::path out = dir / "out";
+  const auto r = run_cli("insert " + scen.string() + " --duration 0.9 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* f : {"force_depth_a.csv", "force_depth_b.csv", "needle_events.csv", "seeds.csv", "cores.csv"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  const std::string fd = read(out / "force_depth_a.csv");
+  EXPECT_EQ(fd.rfind("time_s,depth_mm,plan_depth_mm,axial_force_n,", 0), 0u);
+  EXPECT_EQ(lines(fd), 1 + 900) << "one row per tick";
+  const std::string ev = read(out / "needle_events.csv");
+  EXPECT_EQ(ev.rfind("time_s,needle,event,component,node,depth_mm,force_n,", 0), 0u);
+  EXPECT_NE(ev.find(",a,puncture,tissue,"), std::string::npos) << ev;
+  EXPECT_NE(ev.find(",b,puncture,tissue,"), std::string::npos) << ev;
+  EXPECT_NE(ev.find(",a,seed,tissue,"), std::string::npos) << ev;
+  EXPECT_EQ(lines(read(out / "seeds.csv")), 2) << "header + the one seed";
+  EXPECT_NE(r.out.find("a puncture tissue"), std::string::npos) << r.out;
+  // atomic writes leave no temporary file behind
+  for (const auto& e : fs::directory_iterator(out)) EXPECT_EQ(e.path().extension(), ".csv") << e.path();
+}
+
+TEST(Insert, BadNeedleInputExits2NamingFileLineFieldAndWritesNothing) {
+  const fs::path dir = temp_dir("bad");
+  struct Case {
+    std::string needles, field;
+  };
+  const std::vector<Case> cases = {
+      {vertical_needle("far", 300, 0, "[[0, 0], [1, 50]]"), "needles.instruments[0].start_mm"},  // outside the scene
+      {"    - {name: n, length_mm: 0, start_mm: [0, 0, 1], direction: [0, 0, -1]}\n", "needles.instruments[0].length_mm"},
+      {"    - {name: n, length_mm: -20, start_mm: [0, 0, 1], direction: [0, 0, -1]}\n", "needles.instruments[0].length_mm"},
+      {"    - {name: n, gauge: -18, start_mm: [0, 0, 1], direction: [0, 0, -1]}\n", "needles.instruments[0].gauge"},
+      {"    - {name: n, diameter_mm: 0, start_mm: [0, 0, 1], direction: [0, 0, -1]}\n", "needles.instruments[0].diameter_mm"},
+      {vertical_needle("n", 1.3, 0.9, "[[0, 0], [1, 10]]", "      friction_radius_mm: 0.1\n"),
+       "needles.instruments[0].friction_radius_mm"},
+      {vertical_needle("n", 1.3, 0.9, "[[0, 0], [1, 10]]", "      cutting_radius_mm: 400\n"),
+       "needles.instruments[0].cutting_radius_mm"},
+      {vertical_needle("n", 1.3, 0.9, "[[0, 0], [1, 10]]", "      seeds_mm: [5, 150]\n"), "needles.instruments[0].seeds_mm[1]"},
+      {vertical_needle("n", 1.3, 0.9, "[[0, 0], [1, 10]]", "      seeds_mm: [5, 30]\n"), "needles.instruments[0].seeds_mm[1]"},
+  };
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const fs::path scen = dir / ("bad" + std::to_string(i) + ".yaml");
+    std::ofstream(scen) << block_yaml(BlockOptions{}, cases[i].needles);
+    const fs::path out = dir / ("out" + std::to_string(i));
+    const auto r = run_cli("insert " + scen.string() + " --out " + out.string());
+    EXPECT_EQ(r.code, 2) << cases[i].field << ": " << r.out;
+    EXPECT_NE(r.out.find("bad" + std::to_string(i) + ".yaml:"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(cases[i].field), std::string::npos) << r.out;
+    EXPECT_EQ(lines(r.out), 1) << "one error line: " << r.out;
+    EXPECT_FALSE(fs::exists(out)) << "nothing written for " << cases[i].field;
+  }
+}
+
+TEST(Insert, AbsurdPushIsClampedAndReportedNotABlowUp) {
+  // the script asks for 90 mm in 1 ms: ~180 kN through the coupling spring
+  const fs::path dir = temp_dir("absurd");
+  const fs::path scen = dir / "absurd.yaml";
+  std::ofstream(scen) << block_yaml(BlockOptions{}, vertical_needle("n", 1.3, 0.9, "[[0, 0], [0.1, 0], [0.101, 90]]"));
+  const fs::path out = dir / "out";
+  const auto r = run_cli("insert " + scen.string() + " --duration 0.2 --out " + out.string());
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("force_clamped"), std::string::npos) << r.out;
+  EXPECT_NE(read(out / "needle_events.csv").find(",n,force_clamped,"), std::string::npos);
+}
+
+}  // namespace
