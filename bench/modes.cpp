@@ -22,7 +22,7 @@
 namespace ps::bench {
 
 namespace {
-const char* const kScenes[] = {"cube11", "cube11i", "cube22", "cube22i", "cyl", "cyli"};
+const char* const kScenes[] = {"cube11", "cube11i", "cube22", "cube22i", "cyl", "cyli", "biopsy"};
 
 int64_t now_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
