@@ -53,6 +53,7 @@ struct BetaTriplet {
 // that holds no beta triplet, which adds exactly zero.
 struct TripletChunk {
   uint8_t a[2], b[2], c[2];        // neighbour slots of half-chunk 0 and 1
+  uint8_t a4[2], b4[2], c4[2];     // the same slots times 4 (offsets of 4-double accumulators)
 };
 
 // A closed triangulated surface over particles: volume constraint (§3.3) and rendering.

@@ -88,6 +88,9 @@ void build_triplet_chunks(Model& m) {
         c.a[k] = static_cast<uint8_t>(hs[h + k].abc[0]);
         c.b[k] = static_cast<uint8_t>(hs[h + k].abc[1]);
         c.c[k] = static_cast<uint8_t>(hs[h + k].abc[2]);
+        c.a4[k] = static_cast<uint8_t>(4 * c.a[k]);
+        c.b4[k] = static_cast<uint8_t>(4 * c.b[k]);
+        c.c4[k] = static_cast<uint8_t>(4 * c.c[k]);
         m.chunk_beta.push_back(hs[h + k].beta[0]);
         m.chunk_beta.push_back(hs[h + k].beta[1]);
       }

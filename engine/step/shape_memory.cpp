@@ -29,8 +29,8 @@
 // triplet alone (its vertices possibly rotated cyclically); the order of the sums is fixed by the
 // model, so every run and machine gives the same bits: the beta terms of P* are summed per lane
 // over the particle's chunks and the lane sums added as (l0 + l1) + (l2 + l3), after the linear
-// part (summed in neighbour order); a neighbour's force is f_q += g_q - w_q F, g_q its gradient
-// shares summed chunk by chunk.
+// part (summed in neighbour order); a neighbour's force is f_q += (-w_q F + its gradient shares
+// chunk by chunk).
 
 #include <cmath>
 #include <cstddef>
@@ -125,13 +125,19 @@ PS_INLINE D<4> pairs(const double* v, int s0, int s1) {
   return D<4>{lo[0], lo[1], hi[0], hi[1]};
 }
 
-// g0 += (v.x, v.y, v.z)[l0] + [l1], g1 += [l2] + [l3] (4th component: don't care)
-PS_INLINE void add_halves(double* g0, double* g1, const V<4>& v) {
+// g0 += (v.x, v.y, v.z)[l0] + [l1], g1 += [l2] + [l3] (or -=; 4th component: don't care)
+template <bool Subtract> PS_INLINE void add_halves(double* g0, double* g1, const V<4>& v) {
   typedef int64_t I __attribute__((vector_size(32)));
   const D<4> xy = __builtin_shuffle(v.x, v.y, I{0, 4, 2, 6}) + __builtin_shuffle(v.x, v.y, I{1, 5, 3, 7});
   const D<4> zz = __builtin_shuffle(v.z, v.z, I{0, 4, 2, 6}) + __builtin_shuffle(v.z, v.z, I{1, 5, 3, 7});
-  store<4>(g0, load<4>(g0) + __builtin_shuffle(xy, zz, I{0, 1, 4, 5}));
-  store<4>(g1, load<4>(g1) + __builtin_shuffle(xy, zz, I{2, 3, 6, 7}));
+  const D<4> h0 = __builtin_shuffle(xy, zz, I{0, 1, 4, 5}), h1 = __builtin_shuffle(xy, zz, I{2, 3, 6, 7});
+  if constexpr (Subtract) {
+    store<4>(g0, load<4>(g0) - h0);
+    store<4>(g1, load<4>(g1) - h1);
+  } else {
+    store<4>(g0, load<4>(g0) + h0);
+    store<4>(g1, load<4>(g1) + h1);
+  }
 }
 // g_l += (v.x, v.y, v.z)[l] for the four lanes
 PS_INLINE void add_lanes(double* g0, double* g1, double* g2, double* g3, const V<4>& v) {
@@ -168,7 +174,8 @@ PS_INLINE void shape_memory_impl(const Model& m, State& s) {
   // force on them [N]; the padding slot after the last neighbour stays finite (zero or an earlier
   // neighbour), so the b = 0 lanes that read it add exactly zero
   alignas(32) double X[kChunkSlots] = {}, Y[kChunkSlots] = {}, Z[kChunkSlots] = {};
-  alignas(32) double G[kChunkSlots][4] = {};  // (x, y, z, unused) per slot; zero between particles
+  // (x, y, z, unused) per slot; the padding slot's only ever gets zeros (b = 0 lanes) and is never read
+  alignas(32) double G[kChunkSlots][4] = {};
 
   for (int p = 0; p < n; ++p) {
     if (!has_memory[p]) continue;
@@ -218,6 +225,9 @@ PS_INLINE void shape_memory_impl(const Model& m, State& s) {
     // gradient pass. d(b n/|n|)/dx_q transposed applied to F: with Fp = b/|n| (F - (n.F) n/|n|^2),
     //   f_b -= e_k x Fp,  f_c += e_j x Fp,  f_a += (e_k x Fp - e_j x Fp).
     const V<N> F{splat<N>(Fx), splat<N>(Fy), splat<N>(Fz)};
+    const D<N> F4{Fx, Fy, Fz, 0.0};
+    for (int a = 0; a < nn; ++a) store<N>(G[a], splat<N>(-w[a]) * F4);  // the linear share first
+    double* g = &G[0][0];
     blk = sc;
     for (const TripletChunk* c = c0; c != c1; ++c, blk += N * kFields) {
       const V<N> ej{load<N>(blk + N * EjX), load<N>(blk + N * EjY), load<N>(blk + N * EjZ)};
@@ -226,23 +236,20 @@ PS_INLINE void shape_memory_impl(const Model& m, State& s) {
       const D<N> scale = load<N>(blk + N * Scale);
       const D<N> cf = (nv.x * F.x + nv.y * F.y + nv.z * F.z) * load<N>(blk + N * InvLen2);
       const V<N> Fp{scale * (F.x - cf * nv.x), scale * (F.y - cf * nv.y), scale * (F.z - cf * nv.z)};
-      const V<N> fj = cross(ek, Fp), fk = cross(ej, Fp);
-      const V<N> fi = fj - fk;
+      // fb = -(e_k x Fp) exactly (x - y = -(y - x) in IEEE), and the share of a is -(fb + fk)
+      const V<N> fb = cross(Fp, ek), fk = cross(ej, Fp);
+      const V<N> fs{fb.x + fk.x, fb.y + fk.y, fb.z + fk.z};
       // to per-slot (x, y, z, -) accumulators: the c lanes one slot each, the a and b lanes summed
       // per half-chunk (l0 + l1, l2 + l3), as whole vectors (transposed by shuffles)
-      const V<N> fb{-fj.x, -fj.y, -fj.z};
-      add_halves(G[c->a[0]], G[c->a[1]], fi);
-      add_halves(G[c->b[0]], G[c->b[1]], fb);
-      add_lanes(G[c->c[0]], G[c->c[0] + 1], G[c->c[1]], G[c->c[1] + 1], fk);
+      add_halves<true>(g + c->a4[0], g + c->a4[1], fs);
+      add_halves<false>(g + c->b4[0], g + c->b4[1], fb);
+      add_lanes(g + c->c4[0], g + c->c4[0] + 4, g + c->c4[1], g + c->c4[1] + 4, fk);
     }
-    for (int a = 0; a < nn; ++a) {
+    for (int a = 0; a < nn; ++a) {  // f_q += -w_q F + (gradient shares)
       double* fq = f[nb[a]].data();
-      fq[0] += G[a][0] - w[a] * Fx;
-      fq[1] += G[a][1] - w[a] * Fy;
-      fq[2] += G[a][2] - w[a] * Fz;
-      store<N>(G[a], zero);  // cleared for the next particle
+      store<2>(fq, load<2>(fq) + load<2>(G[a]));
+      fq[2] += G[a][2];
     }
-    store<N>(G[nn], zero);  // the padding slot (it only ever receives zeros from b = 0 lanes)
   }
 }
 
