@@ -139,6 +139,23 @@ template <bool Subtract> PS_INLINE void add_halves(double* g0, double* g1, const
     store<4>(g1, load<4>(g1) + h1);
   }
 }
+// g -= or += ([l0] + [l1]) + ([l2] + [l3])
+template <bool Subtract> PS_INLINE void add_both(double* g, const V<4>& v) {
+  typedef int64_t I __attribute__((vector_size(32)));
+  const D<4> xy = __builtin_shuffle(v.x, v.y, I{0, 4, 2, 6}) + __builtin_shuffle(v.x, v.y, I{1, 5, 3, 7});
+  const D<4> zz = __builtin_shuffle(v.z, v.z, I{0, 4, 2, 6}) + __builtin_shuffle(v.z, v.z, I{1, 5, 3, 7});
+  const D<4> h = __builtin_shuffle(xy, zz, I{0, 1, 4, 5}) + __builtin_shuffle(xy, zz, I{2, 3, 6, 7});
+  if constexpr (Subtract) store<4>(g, load<4>(g) - h);
+  else store<4>(g, load<4>(g) + h);
+}
+// g0 += [l0] + [l2], g1 += [l1] + [l3] (both half-chunks on slots c, c + 1)
+PS_INLINE void add_lanes_twice(double* g0, double* g1, const V<4>& v) {
+  typedef int64_t I __attribute__((vector_size(32)));
+  const D<4> xy0 = __builtin_shuffle(v.x, v.y, I{0, 4, 2, 6});  // x0 y0 x2 y2
+  const D<4> xy1 = __builtin_shuffle(v.x, v.y, I{1, 5, 3, 7});  // x1 y1 x3 y3
+  store<4>(g0, load<4>(g0) + (__builtin_shuffle(xy0, v.z, I{0, 1, 4, 4}) + __builtin_shuffle(xy0, v.z, I{2, 3, 6, 6})));
+  store<4>(g1, load<4>(g1) + (__builtin_shuffle(xy1, v.z, I{0, 1, 5, 5}) + __builtin_shuffle(xy1, v.z, I{2, 3, 7, 7})));
+}
 // g_l += (v.x, v.y, v.z)[l] for the four lanes
 PS_INLINE void add_lanes(double* g0, double* g1, double* g2, double* g3, const V<4>& v) {
   typedef int64_t I __attribute__((vector_size(32)));
@@ -241,9 +258,12 @@ PS_INLINE void shape_memory_impl(const Model& m, State& s) {
       const V<N> fs{fb.x + fk.x, fb.y + fk.y, fb.z + fk.z};
       // to per-slot (x, y, z, -) accumulators: the c lanes one slot each, the a and b lanes summed
       // per half-chunk (l0 + l1, l2 + l3), as whole vectors (transposed by shuffles)
-      add_halves<true>(g + c->a4[0], g + c->a4[1], fs);
+      // both half-chunks on the same slots (lattices: the common case) add their halves first
+      if (c->a4[0] == c->a4[1]) add_both<true>(g + c->a4[0], fs);
+      else add_halves<true>(g + c->a4[0], g + c->a4[1], fs);
       add_halves<false>(g + c->b4[0], g + c->b4[1], fb);
-      add_lanes(g + c->c4[0], g + c->c4[0] + 4, g + c->c4[1], g + c->c4[1] + 4, fk);
+      if (c->c4[0] == c->c4[1]) add_lanes_twice(g + c->c4[0], g + c->c4[0] + 4, fk);
+      else add_lanes(g + c->c4[0], g + c->c4[0] + 4, g + c->c4[1], g + c->c4[1] + 4, fk);
     }
     for (int a = 0; a < nn; ++a) {  // f_q += -w_q F + (gradient shares)
       double* fq = f[nb[a]].data();
