@@ -6,6 +6,8 @@
 //                                              only those N substeps are counted
 //   prostatesim_bench --verify                 optimised shape memory vs the reference copy
 //   prostatesim_bench --stable-dt [N]          largest stable substep vs the estimate (N substeps)
+//   prostatesim_bench --soak [N]               config/biopsy.yaml with its tools for N substeps
+//                                              (default 100000): no fault, finite, volumes held
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -22,6 +24,7 @@ int main(int argc, char** argv) {
     return ps::bench::run_steps(argv[2], std::atoi(argv[3]));
   if (argc >= 2 && std::strcmp(argv[1], "--stable-dt") == 0)
     return ps::bench::stable_dt_study(argc >= 3 ? std::atoi(argv[2]) : 20000);
+  if (argc >= 2 && std::strcmp(argv[1], "--soak") == 0) return ps::bench::soak(argc >= 3 ? std::atoi(argv[2]) : 100000);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

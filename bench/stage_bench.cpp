@@ -47,6 +47,8 @@ BENCHMARK_CAPTURE(kBase, cube11, "cube11")->Name("BM_ShapeMemoryBaselineBuild/cu
 BENCHMARK_CAPTURE(kBase, cyl, "cyl")->Name("BM_ShapeMemoryBaselineBuild/cyl")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kOpt, cyl, "cyl")->Name("BM_ShapeMemory/cyl")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kRef, cyl, "cyl")->Name("BM_ShapeMemoryReference/cyl")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(kOpt, biopsy, "biopsy")->Name("BM_ShapeMemory/biopsy")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(kRef, biopsy, "biopsy")->Name("BM_ShapeMemoryReference/biopsy")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Check, cube11, "cube11")->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -59,12 +59,14 @@ BENCHMARK_CAPTURE(BM_Step, cube22, "cube22")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Step, cube22i, "cube22i")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Step, cyl, "cyl")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Step, cyli, "cyli")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Step, biopsy, "biopsy")->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_CAPTURE(BM_StepStages, cube11, "cube11")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_StepStages, cube11i, "cube11i")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_StepStages, cube11si, "cube11si")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_StepStages, cube22i, "cube22i")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_StepStages, cyli, "cyli")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_StepStages, biopsy, "biopsy")->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace ps::bench

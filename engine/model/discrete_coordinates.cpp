@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "engine/model/triplet_chunks.h"
 #include "engine/util/error.h"
 
 namespace ps {
@@ -72,6 +73,7 @@ void compute_discrete_coordinates(Model& model) {
     for (size_t t = first_beta; t < model.beta.size(); ++t) model.beta[t].b *= inv_m;
   }
   model.beta_start[n] = static_cast<int>(model.beta.size());
+  build_triplet_chunks(model);  // the layout the shape-memory stage reads
 }
 
 }  // namespace ps

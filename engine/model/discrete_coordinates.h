@@ -17,7 +17,8 @@ inline constexpr double kBetaZeroRelative = 1e-9;
 // More neighbours than this make C(n,3) triplets too costly; the compiler refuses.
 inline constexpr int kMaxNeighbours = 16;
 
-// Fills model.nbr_w, model.beta_start, model.beta, model.triplet_count from model.rest_pos,
+// Fills model.nbr_w, model.beta_start, model.beta, model.triplet_count (and the chunk layout of
+// the beta triplets, build_triplet_chunks in triplet_chunks.h) from model.rest_pos,
 // model.nbr_start/nbr for every particle with model.shape_memory[p] = 1.
 // Throws CompileError naming the particle (index, component) when a particle that needs shape
 // memory has fewer than 3 neighbours, more than kMaxNeighbours, or no valid triplet.

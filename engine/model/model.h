@@ -45,6 +45,17 @@ struct BetaTriplet {
   double b;                        // beta_t / m_p [m], signed along (N_j-N_i)x(N_k-N_i)
 };
 
+// --- shape-memory chunk layout (engine/model/triplet_chunks.h; read by engine/step/shape_memory.cpp) ---
+// The beta triplets of a particle regrouped so the stage runs 4 triplets per SIMD chunk with few
+// loads: a chunk is two half-chunks h = 0, 1, each the two triplets (a_h, b_h, c_h) and
+// (a_h, b_h, c_h + 1) of neighbour slots (slots index the particle's neighbour list, in nbr
+// order). A triplet's vertices may be rotated cyclically (the same normal); b_t = 0 in a lane
+// that holds no beta triplet, which adds exactly zero.
+struct TripletChunk {
+  uint8_t a[2], b[2], c[2];        // neighbour slots of half-chunk 0 and 1
+  uint8_t a4[2], b4[2], c4[2];     // the same slots times 4 (offsets of 4-double accumulators)
+};
+
 // A closed triangulated surface over particles: volume constraint (§3.3) and rendering.
 struct Surface {
   int component = -1;
@@ -184,6 +195,13 @@ struct Model {
   std::vector<FibrePair> fibre_pairs;
 
   std::vector<std::string> compile_warnings;  // reported by simulate/check
+
+  // --- shape-memory chunk layout (see TripletChunk; built by build_triplet_chunks) ---
+  std::vector<int> chunk_start;          // [n+1] chunks of particle p: chunk_start[p] .. chunk_start[p+1]-1
+  std::vector<TripletChunk> chunks;
+  std::vector<double> chunk_beta;        // [4 per chunk] b_t [m], lanes (a0,b0,c0), (a0,b0,c0+1), (a1,b1,c1), (a1,b1,c1+1)
+  int most_chunks = 0;                   // most chunks of one particle (scratch size)
+  // --- end of the shape-memory chunk layout ---
 
   // stability
   double stable_dt_estimate = 0.0; // largest stable substep, undamped linearisation [s]

@@ -16,10 +16,7 @@ State make_state(const Model& model) {
   s.attractor = model.rest_pos;
   s.volume_grad.assign(n, Vec3::Zero());
   s.contact.assign(n, 0);
-  int most_triplets = 0;  // per particle; the stage works on groups of 4 triplets, so round up
-  for (size_t p = 0; p + 1 < model.beta_start.size(); ++p)
-    most_triplets = std::max(most_triplets, model.beta_start[p + 1] - model.beta_start[p]);
-  s.triplet_scratch.assign(static_cast<size_t>(kTripletScratchFields) * ((most_triplets + 3) / 4 * 4), 0.0);
+  s.triplet_scratch.assign(static_cast<size_t>(kTripletScratchFields) * 4 * model.most_chunks, 0.0);
   s.strain_rot.assign(model.strain.centre.size(), Quat::Identity());
   s.bodies.resize(model.rigid_bodies.size());
   for (size_t b = 0; b < model.rigid_bodies.size(); ++b) s.bodies[b].com = model.rigid_bodies[b].com_rest;

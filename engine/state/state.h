@@ -27,8 +27,8 @@ struct StepFault {
   std::string describe(const Model& m) const;
 };
 
-// Values the shape-memory stage keeps per beta triplet between its attractor and gradient passes
-// (State::triplet_scratch): e_j, e_k, n (3 each), b/|n|, 1/|n|^2.
+// Values the shape-memory stage keeps per triplet lane (Model::chunks) between its attractor and
+// gradient passes (State::triplet_scratch): e_j, e_k, n (3 each), b/|n|, 1/|n|^2.
 inline constexpr int kTripletScratchFields = 11;
 
 struct State {
@@ -46,10 +46,9 @@ struct State {
   std::vector<double> last_lambda;      // [surfaces] last volume multiplier (diagnostic)
   std::vector<uint8_t> contact;         // [n] scratch: axis mask pinned this step by a
                                         // half-space or a tool contact (volume leaves it alone)
-  std::vector<double> triplet_scratch;  // scratch of the shape-memory stage: per beta triplet of
+  std::vector<double> triplet_scratch;  // scratch of the shape-memory stage: per triplet lane of
                                         // one particle its edges, normal, b/|n| and 1/|n|^2
-                                        // (kTripletScratchFields x capacity, capacity = the most
-                                        // triplets of any particle rounded up to a multiple of 4)
+                                        // (kTripletScratchFields x 4 x Model::most_chunks)
   std::vector<Quat> strain_rot;         // [strain clusters] rotation of the polar decomposition of
                                         // the cluster's F at the last substep (warm start)
   StepFault fault;

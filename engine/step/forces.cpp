@@ -12,7 +12,11 @@ double ramp_fraction(double t, double t0, double t1) {
 
 void clear_and_add_external_forces(const Model& m, State& s, double t) {
   const int n = m.particle_count();
-  for (int p = 0; p < n; ++p) s.f[p] = m.mass[p] * m.gravity;
+  // raw pointers: through m and s the compiler reloads both buffers for every particle
+  const double* mass = m.mass.data();
+  const Vec3 g = m.gravity;
+  Vec3* f = s.f.data();
+  for (int p = 0; p < n; ++p) f[p] = mass[p] * g;
   for (const AppliedForce& af : m.applied_forces) {
     const Vec3 each = ramp_fraction(t, af.t0, af.t1) * af.total / static_cast<double>(af.particles.size());
     for (int p : af.particles) s.f[p] += each;

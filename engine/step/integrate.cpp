@@ -11,6 +11,13 @@
 
 namespace ps {
 
+namespace {
+typedef double D2 __attribute__((vector_size(16)));
+typedef double U2 __attribute__((vector_size(16), aligned(8), may_alias));  // unaligned view
+inline D2 load2(const double* p) { return *reinterpret_cast<const U2*>(p); }
+inline void store2(double* p, D2 v) { *reinterpret_cast<U2*>(p) = v; }
+}  // namespace
+
 void integrate(const Model& m, State& s, double dt) {
   const int n = m.particle_count();
   const double* inv_mass = m.inv_mass.data();
@@ -23,8 +30,18 @@ void integrate(const Model& m, State& s, double dt) {
   for (int p = 0; p < n; ++p) {
     const double im = inv_mass[p];
     if (im == 0.0) continue;  // rigid or kinematic: placed by its body or constraint
-    v[p] = (v[p] + dt * im * f[p]) / (1.0 + damping[p] * dt);
-    x[p] += dt * v[p];
+    // v = (v + dt im f) / (1 + c dt), x += dt v: x and y as one 2-lane operation (the same IEEE
+    // operations as three scalar ones: one division instruction fewer)
+    const double a = dt * im, d = 1.0 + damping[p] * dt;
+    double* vp = v[p].data();
+    double* xp = x[p].data();
+    const double* fp = f[p].data();
+    const D2 vxy = (load2(vp) + D2{a, a} * load2(fp)) / D2{d, d};
+    const double vz = (vp[2] + a * fp[2]) / d;
+    store2(vp, vxy);
+    vp[2] = vz;
+    store2(xp, load2(xp) + D2{dt, dt} * vxy);
+    xp[2] += dt * vz;
   }
 }
 
