@@ -74,6 +74,22 @@ inline Mat3 extract_rotation(const Mat3& F, Quat& q, int max_iter) {
   return R;
 }
 
+// Centroid xc of cluster c, its deformation gradient F = sum (x_i - xc) g_i^T (consistent
+// weights) and Fls = sum (x_i - xc) q_i^T, the least-squares affine fit whose misfit is the non-affine residual.
+void cluster_deformation(const StrainClusters& sc, const State& s, int c, Vec3& xc, Mat3& F, Mat3& Fls) {
+  const int b = sc.start[c], e = sc.start[c + 1];
+  xc = Vec3::Zero();
+  for (int a = b; a < e; ++a) xc += s.x[sc.member[a]];
+  xc /= static_cast<double>(e - b);
+  F = Mat3::Zero();
+  Fls = Mat3::Zero();
+  for (int a = b; a < e; ++a) {
+    const Vec3 d = s.x[sc.member[a]] - xc;
+    F.noalias() += d * sc.g[a].transpose();
+    Fls.noalias() += d * sc.q[a].transpose();
+  }
+}
+
 }  // namespace
 
 void add_strain_memory_forces(const Model& m, State& s, int polar_iterations) {
@@ -82,15 +98,9 @@ void add_strain_memory_forces(const Model& m, State& s, int polar_iterations) {
   const int iters = polar_iterations > 0 ? polar_iterations : kPolarIterations;
   for (int c = 0; c < nc; ++c) {
     const int b = sc.start[c], e = sc.start[c + 1];
-    Vec3 xc = Vec3::Zero();
-    for (int a = b; a < e; ++a) xc += s.x[sc.member[a]];
-    xc /= static_cast<double>(e - b);
-    Mat3 F = Mat3::Zero(), Fls = Mat3::Zero();
-    for (int a = b; a < e; ++a) {
-      const Vec3 d = s.x[sc.member[a]] - xc;
-      F.noalias() += d * sc.g[a].transpose();
-      Fls.noalias() += d * sc.q[a].transpose();
-    }
+    Vec3 xc;
+    Mat3 F, Fls;
+    cluster_deformation(sc, s, c, xc, F, Fls);
     const Mat3 R = extract_rotation(F, s.strain_rot[c], iters);
     Mat3 P = sc.mu2v[c] * (F - R);
     if (sc.k_v[c] != 0.0) {
@@ -115,14 +125,9 @@ double strain_memory_energy(const Model& m, const State& s) {
   double energy = 0.0;
   for (int c = 0; c < sc.count(); ++c) {
     const int b = sc.start[c], e = sc.start[c + 1];
-    Vec3 xc = Vec3::Zero();
-    for (int a = b; a < e; ++a) xc += s.x[sc.member[a]];
-    xc /= static_cast<double>(e - b);
-    Mat3 F = Mat3::Zero(), Fls = Mat3::Zero();
-    for (int a = b; a < e; ++a) {
-      F += (s.x[sc.member[a]] - xc) * sc.g[a].transpose();
-      Fls += (s.x[sc.member[a]] - xc) * sc.q[a].transpose();
-    }
+    Vec3 xc;
+    Mat3 F, Fls;
+    cluster_deformation(sc, s, c, xc, F, Fls);
     Quat q = s.strain_rot[c];
     const Mat3 R = extract_rotation(F, q, 100);  // converged: the energy at its optimal rotation
     const double J = F.determinant();

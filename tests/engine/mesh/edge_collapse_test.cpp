@@ -8,17 +8,10 @@
 
 #include "engine/mesh/mesh_check.h"
 #include "engine/mesh/mesh_simplify.h"
+#include "tests/engine/mesh/test_meshes.h"
 
 namespace ps {
 namespace {
-
-TriMesh cube(double size) {
-  TriMesh m;
-  for (int i = 0; i < 8; ++i) m.vertices.push_back(size * Vec3(i & 1 ? 1 : 0, i & 2 ? 1 : 0, i & 4 ? 1 : 0));
-  m.faces = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-             {2, 6, 7}, {2, 7, 3}, {1, 3, 7}, {1, 7, 5}, {0, 4, 6}, {0, 6, 2}};
-  return m;
-}
 
 // A square torus: a 40 mm box with a 20 mm square hole (genus 1), walls 10 mm thick.
 TriMesh square_torus() {
@@ -64,12 +57,12 @@ TEST(EdgeCollapse, CoarsensATorusKeepingItsGenus) {
 
 TEST(EdgeCollapse, StopsBeforeATetrahedronAndRejectsBadLengths) {
   // a cube collapsed with a huge length ends as a small closed solid, never degenerate
-  const TriMesh out = collapse_short_edges(cube(0.01), 1.0);
+  const TriMesh out = collapse_short_edges(test::cube_mesh(0.01), 1.0);
   const MeshReport r = check_mesh(out);
   EXPECT_TRUE(r.valid_solid()) << r.summary();
   EXPECT_GE(out.faces.size(), 4u);
-  EXPECT_THROW(collapse_short_edges(cube(0.01), 0.0), std::invalid_argument);
-  EXPECT_THROW(collapse_short_edges(cube(0.01), std::nan("")), std::invalid_argument);
+  EXPECT_THROW(collapse_short_edges(test::cube_mesh(0.01), 0.0), std::invalid_argument);
+  EXPECT_THROW(collapse_short_edges(test::cube_mesh(0.01), std::nan("")), std::invalid_argument);
 }
 
 }  // namespace

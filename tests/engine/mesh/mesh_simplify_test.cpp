@@ -8,19 +8,12 @@
 
 #include "engine/mesh/mesh_check.h"
 #include "engine/mesh/mesh_import.h"
+#include "tests/engine/mesh/test_meshes.h"
 
 namespace ps {
 namespace {
 
 const std::string kData = PROSTATESIM_SHARED_DATA;
-
-TriMesh cube(double size) {
-  TriMesh m;
-  for (int i = 0; i < 8; ++i) m.vertices.push_back(size * Vec3(i & 1 ? 1 : 0, i & 2 ? 1 : 0, i & 4 ? 1 : 0));
-  m.faces = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-             {2, 6, 7}, {2, 7, 3}, {1, 3, 7}, {1, 7, 5}, {0, 4, 6}, {0, 6, 2}};
-  return m;
-}
 
 double max_edge(const TriMesh& m) {
   double e = 0;
@@ -36,7 +29,7 @@ TriMesh phantom() {
 }
 
 TEST(MeshSimplify, SubdivideSplitsLongEdgesOnly) {
-  const TriMesh c = cube(0.05);   // 5 cm cube, 12 triangles
+  const TriMesh c = test::cube_mesh(0.05);   // 5 cm cube, 12 triangles
   const TriMesh s = subdivide_to_spacing(c, 0.012);
   EXPECT_LE(max_edge(s), 0.012);
   EXPECT_GT(s.faces.size(), 12u * 16);
@@ -68,7 +61,7 @@ TEST(MeshSimplify, PhantomAtThreeMillimetres) {
 
 TEST(MeshSimplify, CoarseCubeIsRefinedThenResampled) {
   // 12 triangles with 10 cm edges at 2 cm spacing: needs the subdivision step first.
-  const TriMesh c = cube(0.1);
+  const TriMesh c = test::cube_mesh(0.1);
   RemeshStats st;
   const TriMesh out = remesh_to_spacing(c, 0.02, &st);
   EXPECT_TRUE(check_mesh(out).valid_solid()) << check_mesh(out).summary();
@@ -99,10 +92,10 @@ TEST(MeshSimplify, ThinPelvisIsCoarsenedByEdgeCollapse) {
 }
 
 TEST(MeshSimplify, RejectsOpenInput) {
-  TriMesh c = cube(0.05);
+  TriMesh c = test::cube_mesh(0.05);
   c.faces.pop_back();
   EXPECT_THROW(remesh_to_spacing(c, 0.01), std::invalid_argument);
-  EXPECT_THROW(remesh_to_spacing(cube(0.05), -1.0), std::invalid_argument);
+  EXPECT_THROW(remesh_to_spacing(test::cube_mesh(0.05), -1.0), std::invalid_argument);
 }
 
 }  // namespace
