@@ -25,7 +25,7 @@ const MaterialSpec& find_material(const ScenarioSpec& spec, const std::string& n
   throw std::logic_error("material checked by the parser");
 }
 
-ParticleSet build_particles(const ComponentSpec& c, const std::string& file) {
+ParticleSet build_particles(const ComponentSpec& c, const std::string& file, std::vector<std::string>* warnings) {
   const ShapeSpec& s = c.shape;
   switch (s.kind) {
     case ShapeSpec::Box: {
@@ -57,7 +57,7 @@ ParticleSet build_particles(const ComponentSpec& c, const std::string& file) {
             return std::min({s.radius - r, z, s.length - z});
           });
     }
-    case ShapeSpec::Mesh: return particles_from_mesh(c, file);
+    case ShapeSpec::Mesh: return particles_from_mesh(c, file, warnings);
   }
   return {};
 }
@@ -125,7 +125,7 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   std::vector<ParticleSet> sets(spec.components.size());
   std::vector<double> excluded_volume(spec.components.size(), 0.0);  // [m^3]
   for (size_t ci = 0; ci < spec.components.size(); ++ci)
-    if (spec.components[ci].exclude_inside.empty()) sets[ci] = build_particles(spec.components[ci], spec.file);
+    if (spec.components[ci].exclude_inside.empty()) sets[ci] = build_particles(spec.components[ci], spec.file, &warnings);
   for (size_t ci = 0; ci < spec.components.size(); ++ci)
     if (!spec.components[ci].exclude_inside.empty())
       sets[ci] = anatomy::fill_excluding(spec, ci, sets, &excluded_volume[ci]);
@@ -202,7 +202,7 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
     const double ke = mat.k_e               ? *mat.k_e
                       : mat.strain_model    ? strain_shape_memory_stiffness(sp.mu, cs.spacing)
                                             : shape_memory_stiffness(*mat.young, cs.spacing);
-    if (!mat.k_e && !mat.strain_model && (cs.spacing < kCalibratedSpacingMin || cs.spacing > kCalibratedSpacingMax))
+    if (!mat.k_e && !mat.strain_model && comp.kind != ComponentKind::Rigid && (cs.spacing < kCalibratedSpacingMin || cs.spacing > kCalibratedSpacingMax))
       warnings.push_back("component '" + cs.name + "': spacing " + std::to_string(cs.spacing * 1e3) +
                          " mm is outside the 4-10 mm range where the E -> k_e mapping was calibrated");
     for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p) {

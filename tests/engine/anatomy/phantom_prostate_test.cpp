@@ -62,6 +62,14 @@ TEST(SharedBone, ImportsAsARigidComponentAtTheChosenSpacing) {
   EXPECT_GT(m7->particle_count(), 800);
   EXPECT_GT(m5->particle_count(), m7->particle_count());
   EXPECT_NEAR(m7->surfaces[0].rest_volume, 230.77e-6, 0.01 * 230.77e-6);   // volume kept [m^3]
+  // the user is told the bone was coarsened by edge collapse, and the rigid bone gets no
+  // stiffness-calibration warning (it has no shape memory)
+  bool told = false;
+  for (const std::string& w : m7->compile_warnings) {
+    told = told || w.find("edge collapse") != std::string::npos;
+    EXPECT_EQ(w.find("calibrated"), std::string::npos) << w;
+  }
+  EXPECT_TRUE(told);
 }
 
 // A tumour given as a closed mesh (the phantom's internal chamber inner_0.stl, 5.1-5.7 cm^3)
