@@ -262,6 +262,31 @@ TEST(Needle, ManyNeedlesHoldingTheSameParticlesStayWithinTheExplicitStabilityLim
   EXPECT_GT(friction, 0.5) << "the tissue still grips the shafts";
 }
 
+TEST(Needle, TemplatePlanOfTheDefaultAnatomyHasTwentyNeedlesInTemplateHoles) {
+  // config/brachytherapy_template.yaml builds (its run, 6.5 s simulated, ~2.8 min CPU, is a
+  // hand-run figure in docs/validation.md): 20 template needles besides the scene's two, each in
+  // its own hole of the probe's template (5 mm pitch), parallel to +z
+  const ScenarioSpec spec = parse_scenario_file(std::string(PROSTATESIM_SOURCE_DIR) + "/config/brachytherapy_template.yaml");
+  const auto model = compile_scenario(spec);
+  const auto tool = make_needle_tool(model, spec.needles);
+  ASSERT_TRUE(tool);
+  EXPECT_TRUE(tool->warnings().empty()) << tool->warnings().front();
+  std::vector<std::pair<long, long>> holes;
+  for (int i = 0; i < tool->count(); ++i) {
+    const NeedleSpec& n = tool->spec(i);
+    if (n.name.rfind("t", 0) != 0) continue;
+    EXPECT_NEAR(n.direction.z(), 1.0, 1e-12) << n.name;
+    // template holes: x on the 5 mm grid, y = 4.4 mm + k * 5 mm (row 0 10 mm above the probe axis)
+    const double gx = n.start.x() / 5e-3, gy = (n.start.y() - 4.4e-3) / 5e-3;
+    EXPECT_NEAR(gx, std::round(gx), 1e-9) << n.name;
+    EXPECT_NEAR(gy, std::round(gy), 1e-9) << n.name;
+    holes.emplace_back(std::lround(gx), std::lround(gy));
+  }
+  EXPECT_EQ(holes.size(), 20u);
+  std::sort(holes.begin(), holes.end());
+  EXPECT_EQ(std::unique(holes.begin(), holes.end()), holes.end()) << "one needle per hole";
+}
+
 TEST(Needle, HooksDoNotAllocateThroughPunctureStickSlipSeedsBoneAndClamp) {
   // every needle code path inside ticks, counted by the test binary's operator new: first
   // contact and puncture, cutting and friction, the tip stopped on bone (FCL), stick -> slip on
