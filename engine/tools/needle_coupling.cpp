@@ -10,7 +10,7 @@
 // particle next to the apex was held by 41 anchors whose Jacobians (an anchor point well
 // outside its triplets: affine weights and normal terms > 1) summed to K = 2.8e5 N/m on
 // 0.78 g: K h^2 / m = 1.85 at h = 71 us (the limit of symplectic Euler is 4 for a lone spring,
-// less with the tissue's own stiffness), and the apex blew up 10 ms later.
+// less with the tissue's own stiffness), and the apex blew up 9 ms later.
 //
 // The bound: for anchor A with stiffness k_A, c_A,q >= |dP*/dx_q| (the affine weight plus, per
 // normal term b n/|n|, |b| |edge| / |n|) and C_A = sum_q c_A,q; block Gershgorin on M^-1 K gives
