@@ -67,6 +67,9 @@ void add_insert_command(CLI::App& app, Runner& run) {
           std::printf("  t=%.4f s %s %s %s depth %.2f mm force %.3f N\n", e.time, needles.spec(e.needle).name.c_str(),
                       needle_event_name(e.kind), e.component >= 0 ? model->components[e.component].name.c_str() : "-",
                       1e3 * e.depth, e.force);
+      const NeedleCouplingStats& cs = needles.coupling();
+      std::printf("needle-tissue coupling: largest stability bound G h^2 %.3g (budget %.3g), springs softened in %lld substeps\n",
+                  cs.bound_max, kCouplingBudget, static_cast<long long>(cs.softened_substeps));
       std::printf("wrote %s{force_depth_<needle>.csv,needle_events.csv,seeds.csv,cores.csv}\n", dir.c_str());
       if (!ok) {
         spdlog::error("error: simulation stopped: {}", sim.state().fault.describe(*model));

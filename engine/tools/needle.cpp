@@ -201,6 +201,10 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
     nd.zone_dist.assign(static_cast<size_t>(nd.node_count) * kZoneCapacity, 0.0);
     nd.zone_n.assign(nd.node_count, 0);
     nd.anchors.assign(nd.node_count, AffineAnchor{});
+    nd.anchor_c.assign(static_cast<size_t>(nd.node_count) * kAnchorMaxNeighbours, 0.0);
+    nd.anchor_csum.assign(nd.node_count, 0.0);
+    nd.stick_scale.assign(nd.node_count, 1.0);
+    nd.stick_scale_used.assign(nd.node_count, 1.0);
     nd.stuck.assign(nd.node_count, 1);
     nd.reported.assign(nd.node_count, 255);
     nd.pending.assign(nd.node_count, 0);
@@ -252,6 +256,9 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
                           std::to_string(m_min) + " kg; lower it or add substeps");
     needles_.push_back(std::move(nd_ptr));
   }
+  budget_ = std::make_unique<CouplingBudget>();
+  budget_->g.assign(n, 0.0);
+  budget_->touched.reserve(n);
   for (auto& nd : needles_) {
     nd->ro.tip = nd->T;
     nd->ro.direction = nd->d;
@@ -262,10 +269,22 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
 NeedleTool::~NeedleTool() = default;
 
 void NeedleTool::forces(const Model& m, State& s, double dt) {
-  // Algorithm 2 for each needle: zones, tissue forces per node (stick/slide), needle movement
+  // Algorithm 2 for each needle: zones and their virtual particles, then (once every needle's
+  // anchors are known) the stability bound of their summed coupling, then the tissue forces per
+  // node (stick/slide) and the needle movement. The zones depend on the positions only, so
+  // zoning every needle first changes nothing but lets the bound see all of them.
+  for (auto& p : needles_) {
+    update_needle_zones(*p, m, s, puncture_kc_, *membranes_, events_);
+    prepare_needle_anchors(*p, s);
+  }
+  bound_needle_coupling(needles_, m, s, dt, *budget_);
+  coupling_stats_.bound = budget_->peak;
+  coupling_stats_.bound_applied = budget_->after;
+  coupling_stats_.softened_nodes = budget_->softened;
+  coupling_stats_.bound_max = std::max(coupling_stats_.bound_max, budget_->peak);
+  coupling_stats_.softened_substeps += budget_->softened > 0;
   for (auto& p : needles_) {
     Needle& nd = *p;
-    update_needle_zones(nd, m, s, puncture_kc_, *membranes_, events_);
     const Vec3 f_tissue = apply_needle_tissue_forces(nd, m, s, puncture_kc_, *membranes_, events_);
     move_needle(nd, m, s, f_tissue, dt, bone_.get(), events_);
   }

@@ -55,6 +55,9 @@
 //    normal contact that keeps tissue from flowing through it (a deliberate addition to the
 //    paper, whose slide state applies the axial friction only). Slip returns to stick when the
 //    axial spring force falls below F (motion stops or reverses).
+// Stability: the virtual-particle springs are explicit; where the summed stiffness of all the
+// nodes (of all needles) holding a particle would exceed the explicit limit of the substep,
+// those nodes' springs are softened for that substep (needle_coupling.cpp, kCouplingBudget).
 // Safety: the coupling force is clamped at max_force and the speed at max_speed (event, and
 // State::clamp_count); every tissue force is bounded by a threshold (k_c, puncture, friction), so
 // an absurd command cannot blow the tissue up.
@@ -74,12 +77,18 @@
 namespace ps {
 
 class BoneContact;
+struct CouplingBudget;
 struct MembraneFaces;
 
 inline constexpr double kCutFilterTime = 5e-3;  // low-pass of the speed that gates cutting [s]
 inline constexpr int kZoneCapacity = 12;     // particles kept per friction zone (nearest)
 inline constexpr int kCutCapacity = 32;      // particles in the cutting zone
 inline constexpr int kPressCapacity = 48;    // membrane particles sharing the puncture load
+// Bound on the virtual-particle springs of all needles together, as a (Gershgorin, so
+// pessimistic) bound of lambda_max(M^-1 K) h^2 of the coupling alone (needle_coupling.cpp):
+// half of the explicit limit 4 of symplectic Euler. It ignores the tissue's own stiffness at the
+// particle, small where needles gather (3 kPa fat near the capsule: lambda h^2 ~ 1e-3).
+inline constexpr double kCouplingBudget = 2.0;
 
 enum class NeedlePhase : uint8_t { Outside, Pressing, Inserted, Blocked };
 
@@ -109,6 +118,15 @@ struct NeedleZoneStats {
   int tracked = 0;                      // particles in the tube
   int visited = 0;                      // particles whose position was tested this substep
   int plan_checked = 0;                 // of which from the planned-line slice
+};
+
+// The stability bound of the needle-tissue coupling in the last substep (needle_coupling.cpp).
+struct NeedleCouplingStats {
+  double bound = 0.0;                   // max_q G_q h^2 of the virtual springs as specified
+  double bound_applied = 0.0;           // same after the per-node scaling (<= kCouplingBudget)
+  int softened_nodes = 0;               // nodes (all needles) whose spring was scaled down
+  double bound_max = 0.0;               // largest `bound` since the start
+  int64_t softened_substeps = 0;        // substeps in which the scaling acted
 };
 
 struct SeedReport {
@@ -150,6 +168,7 @@ class NeedleTool : public Tool {
   const NeedleSpec& spec(int i) const;
   const NeedleReadout& readout(int i) const;
   const NeedleZoneStats& stats(int i) const;
+  const NeedleCouplingStats& coupling() const { return coupling_stats_; }
   // Interactive command (between ticks): from now on the needle follows this tip pose and
   // velocity instead of its script. Direction must be non-zero (normalised here).
   void command(int i, const Vec3& tip, const Vec3& direction, const Vec3& velocity = Vec3::Zero());
@@ -179,6 +198,8 @@ class NeedleTool : public Tool {
   std::unique_ptr<MembraneFaces> membranes_;
   NeedleEventRing events_;
   std::unique_ptr<BoneContact> bone_;
+  std::unique_ptr<CouplingBudget> budget_;
+  NeedleCouplingStats coupling_stats_;
   std::vector<std::string> warnings_;
 };
 

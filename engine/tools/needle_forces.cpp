@@ -76,7 +76,6 @@ Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s
 
   // --- friction (eq. 6) and stick/slip through the virtual tissue particles
   int engaged = 0, stuck_count = 0;
-  const double kv = nd.spec.stick_stiffness;
   for (int j = 0; j < nd.node_count; ++j) {
     AffineAnchor& an = nd.anchors[j];
     const int n = nd.zone_n[j];
@@ -90,6 +89,9 @@ Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s
     const int* zi = &nd.zone_idx[static_cast<size_t>(j) * kZoneCapacity];
     const double* zd = &nd.zone_dist[static_cast<size_t>(j) * kZoneCapacity];
     const Vec3 X = needle_node(nd, j);
+    // the anchor was (re)built on this zone by prepare_needle_anchors; its spring stiffness is
+    // lowered where the summed coupling of all needles would exceed the stability bound
+    const double kv = nd.spec.stick_stiffness * nd.stick_scale[j];
     double W = 0.0, WK = 0.0;
     for (int i = 0; i < n; ++i) {
       const double w = idw(zd[i], nd.radius);
@@ -98,18 +100,12 @@ Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s
     }
     const double Fk = nd.node_scale * WK / W;  // eq. 6, per node length
     const double Fs = nd.spec.static_ratio * Fk;
-    // (re)anchor when an anchor particle left the zone: coordinates on the current zone
-    // particles (nearest first), the attractor kept where it was so the force is continuous
-    bool rebuild = !an.valid();
-    for (int a = 0; a < an.count && !rebuild; ++a) {
-      bool found = false;
-      for (int i = 0; i < n && !found; ++i) found = zi[i] == an.idx[a];
-      rebuild = !found;
-    }
-    if (!rebuild && !an.rotational && n >= 3 && an.count < std::min(n, kAnchorMaxNeighbours)) rebuild = true;
-    if (rebuild) {
-      const Vec3 keep = an.valid() ? an.evaluate(s.x) : X;
-      an.build(X, zi, n, s.x, keep);
+    // a change of scale changes the stiffness, not the force the spring holds: its rest point
+    // (the anchor offset) moves so that the force is continuous (a jump of the held force when
+    // an anchor elsewhere appeared kicked a resting needle into a stick-slip cycle)
+    if (nd.stick_scale[j] != nd.stick_scale_used[j]) {
+      an.offset += (nd.stick_scale_used[j] / nd.stick_scale[j] - 1.0) * (an.evaluate(s.x) - X);
+      nd.stick_scale_used[j] = nd.stick_scale[j];
     }
     Vec3 Fv = kv * (an.evaluate(s.x) - X);  // virtual elastic force on the node
     const double fa = Fv.dot(d);

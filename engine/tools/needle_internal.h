@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "engine/tools/needle.h"
@@ -83,6 +84,12 @@ struct NeedleTool::Needle {
   uint32_t epoch = 0;
   // virtual tissue particles
   std::vector<AffineAnchor> anchors;     // [node_count]
+  // stability bound of the virtual-particle springs (needle_coupling.cpp): per node, the bound
+  // c_a of |dP*/dx_a| for each anchor particle a and their sum, and the stiffness scale <= 1
+  std::vector<double> anchor_c;          // [node_count * kAnchorMaxNeighbours]
+  std::vector<double> anchor_csum;       // [node_count]
+  std::vector<double> stick_scale;       // [node_count] virtual stiffness = stick_stiffness * scale
+  std::vector<double> stick_scale_used;  // [node_count] the scale of the previous substep
   std::vector<uint8_t> stuck;            // [node_count] 1 stick, 0 slip
   std::vector<uint8_t> reported;         // [node_count] last reported (255: not yet settled)
   std::vector<int> pending;              // [node_count] substeps the new state has held
@@ -120,6 +127,22 @@ struct MembraneFaces {
 // needle_zones.cpp: tube walk and zone membership (cutting, puncture, friction per node)
 void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s, const std::vector<double>& puncture_kc,
                          const MembraneFaces& mf, NeedleEventRing& events);
+// Per-particle bound on the needle-tissue coupling stiffness (needle_coupling.cpp), shared by
+// all needles of the tool: G_q = sum over anchors A holding q of k_A c_A,q C_A / m_q, a
+// (block Gershgorin) upper bound on the largest eigenvalue of M^-1 K_needles [1/s^2].
+struct CouplingBudget {
+  std::vector<double> g;                   // [n] G_q, 0 outside the touched list
+  std::vector<int> touched;                // particles with g > 0 (capacity n)
+  double peak = 0.0;                       // largest G_q h^2 before scaling, last substep
+  double after = 0.0;                      // largest G_q h^2 after scaling (<= kCouplingBudget)
+  int softened = 0;                        // nodes whose stiffness was scaled down, last substep
+};
+// needle_coupling.cpp: (re)builds each node's anchor on its zone (virtual tissue particle), then
+// bounds the summed coupling stiffness per particle over every needle (scale per node)
+void prepare_needle_anchors(NeedleTool::Needle& nd, const State& s);
+void bound_needle_coupling(std::vector<std::unique_ptr<NeedleTool::Needle>>& needles, const Model& m, const State& s,
+                           double dt, CouplingBudget& budget);
+
 // needle_forces.cpp: Algorithm 2 per node: tissue forces, virtual elastic force, stick/slip;
 // returns the tissue reaction on the needle [N]
 Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s, const std::vector<double>& puncture_kc,

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "engine/tools/biopsy.h"
 #include "engine/util/atomic_file.h"
 
 namespace ps {
@@ -14,6 +15,13 @@ std::string fmt(const char* f, double v) {
 }
 std::string g(double v) { return fmt("%.9g", v); }
 std::string mm(double v) { return fmt("%.6f", v * 1e3); }
+// RFC 4180 quoting when a text field holds a comma, quote or line break (zone labels do not today)
+std::string csv_field(const std::string& v) {
+  if (v.find_first_of(",\"\n\r") == std::string::npos) return v;
+  std::string q = "\"";
+  for (char ch : v) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return q + "\"";
+}
 }  // namespace
 
 void ForceDepthRecorder::sample(const NeedleTool& tool, double time) {
@@ -97,13 +105,15 @@ std::string seeds_csv(const NeedleTool& tool) {
 }
 
 std::string cores_csv(const NeedleTool& tool) {
-  std::string out = "needle,taken,time_s,component,particles,tumour_particles,tumour_length_mm,notch_length_mm\n";
-  // one row per component and per tag ("tag:NAME") found in the notch
+  std::string out = "needle,taken,time_s,component,particles,tumour_particles,tumour_length_mm,notch_length_mm,site\n";
+  // one row per component and per tag ("tag:NAME") found in the notch; every row of a core
+  // repeats the core's values and its clinical site (the 12-core zone name, biopsy.h)
   for (int i = 0; i < tool.count(); ++i) {
     if (!tool.spec(i).gun) continue;
     const CoreReport c = tool.core(i);
     const std::string head = tool.spec(i).name + "," + (c.taken ? "1" : "0") + "," + g(c.time) + ",";
-    const std::string tail = "," + std::to_string(c.tumour_particles) + "," + mm(c.tumour_length) + "," + mm(c.notch_length) + "\n";
+    const std::string tail = "," + std::to_string(c.tumour_particles) + "," + mm(c.tumour_length) + "," + mm(c.notch_length) +
+                             "," + csv_field(core_site(c).label) + "\n";
     if (c.per_component.empty()) out += head + ",0" + tail;
     for (const auto& [name, count] : c.per_component) out += head + name + "," + std::to_string(count) + tail;
     for (const auto& [name, count] : c.per_tag) out += head + "tag:" + name + "," + std::to_string(count) + tail;

@@ -54,7 +54,8 @@ void write_force_depth_csv(const std::string& path, const std::vector<ForceDepth
 std::string needle_events_csv(const NeedleTool& tool, const Model& model);
 // header: needle,seed,deposited,embedded,time_s,planned_x_mm,...,current_z_mm,error_mm
 std::string seeds_csv(const NeedleTool& tool);
-// header: needle,taken,time_s,component,particles,tumour_particles,tumour_length_mm,notch_length_mm
+// header: needle,taken,time_s,component,particles,tumour_particles,tumour_length_mm,notch_length_mm,site
+// (site: core_site(core).label, engine/tools/biopsy.h; empty without prostate_zones:)
 std::string cores_csv(const NeedleTool& tool);
 
 }  // namespace ps

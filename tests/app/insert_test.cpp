@@ -60,6 +60,32 @@ TEST(Insert, WritesForceDepthPerNeedleEventsSeedsAndCores) {
   for (const auto& e : fs::directory_iterator(out)) EXPECT_EQ(e.path().extension(), ".csv") << e.path();
 }
 
+TEST(Insert, CoresCsvNamesTheClinicalSiteOfEachCore) {
+  // the biopsy block (a gland box over a tumour box) with prostate zones on the gland: the gun
+  // fires 22 mm at 0.5 s from (1.3, 0.9) mm down -z, right of the midline (x > 0 is the
+  // patient's right, RAS), through the gland into the tumour
+  std::string y = ps::test::biopsy_yaml();
+  y.replace(y.find("needles:"), 0, "prostate_zones: {component: prostate, peripheral_depth_mm: 4}\n");
+  const fs::path dir = temp_dir("cores");
+  const fs::path scen = dir / "biopsy.yaml";
+  std::ofstream(scen) << y;
+  const fs::path out = dir / "out";
+  const auto r = run_cli("insert " + scen.string() + " --duration 0.6 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string cores = read(out / "cores.csv");
+  EXPECT_EQ(cores.rfind("needle,taken,time_s,component,particles,tumour_particles,tumour_length_mm,notch_length_mm,site\n", 0), 0u)
+      << cores;
+  // one row per component and tag of the core, each ending with the same site label
+  const std::string row = cores.substr(cores.find('\n') + 1, cores.find('\n', cores.find('\n') + 1) - cores.find('\n') - 1);
+  EXPECT_EQ(row.rfind("gun,1,", 0), 0u) << row;
+  const std::string site = row.substr(row.rfind(',') + 1);
+  EXPECT_EQ(site.rfind("right ", 0), 0u) << "site '" << site << "'";
+  EXPECT_NE(site.find(" ("), std::string::npos) << "the zone in parentheses: '" << site << "'";
+  size_t rows_with_site = 0;
+  for (size_t at = cores.find('\n'); (at = cores.find("," + site + "\n", at)) != std::string::npos; ++at) ++rows_with_site;
+  EXPECT_EQ(static_cast<long>(rows_with_site), lines(cores) - 1) << cores;
+}
+
 TEST(Insert, BadNeedleInputExits2NamingFileLineFieldAndWritesNothing) {
   const fs::path dir = temp_dir("bad");
   struct Case {

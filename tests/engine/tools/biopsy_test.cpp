@@ -12,33 +12,8 @@
 namespace ps {
 namespace {
 
-std::string biopsy_yaml() {
-  return "name: biopsy\n"
-         "time: {dt_ms: 1, substeps: 1, duration_s: 1}\n"
-         "gravity_m_s2: [0, 0, 0]\n"
-         "materials:\n"
-         "  gland: {young_kpa: 15, density_kg_m3: 1060, damping_1_s: 30, k_c_n: 0.5, k_f_n: 0.025}\n"
-         "  lesion: {young_kpa: 30, density_kg_m3: 1060, damping_1_s: 30, k_c_n: 0.8, k_f_n: 0.04}\n"
-         "components:\n"
-         "  - {name: prostate, material: gland, spacing_mm: 4, box: {min_mm: [-12, -12, -16], max_mm: [12, 12, 0]}}\n"
-         "  - {name: tumour, material: lesion, spacing_mm: 4, box: {min_mm: [-12, -12, -40], max_mm: [12, 12, -20]}}\n"
-         "links:\n"
-         "  - {a: prostate, b: tumour, distance_mm: 5}\n"
-         "constraints:\n"
-         "  - fix: {component: tumour, region: {box: {min_mm: [-100, -100, -41], max_mm: [100, 100, -39]}}}\n"
-         "needles:\n"
-         "  puncture_n: {prostate: 2.5}\n"
-         "  instruments:\n"
-         "    - name: gun\n"
-         "      preset: biopsy_18g\n"
-         "      start_mm: [1.3, 0.9, 1]\n"
-         "      direction: [0, 0, -1]\n"
-         "      script: [[0, 0], [0.4, 8]]\n"
-         "      gun: {fire_s: 0.5, stroke_mm: 22, duration_ms: 15}\n";
-}
-
 TEST(Biopsy, GunFireIsFastStableAndTheCoreHoldsTheTumour) {
-  auto s = test::make_needle_scene(biopsy_yaml());
+  auto s = test::make_needle_scene(test::biopsy_yaml());
   for (int i = 0; i < 500; ++i) ASSERT_TRUE(s.sim->tick());
   const double tip0 = s.tool->readout(0).tip.z();
   double vmax_tissue = 0, needle_speed = 0;
@@ -73,7 +48,7 @@ TEST(Biopsy, GunFireIsFastStableAndTheCoreHoldsTheTumour) {
 
 TEST(Biopsy, TumourGivenAsAParticleTagIsMeasuredInTheCore) {
   // one gland block with a tagged lesion 2.5..9.5 mm deep; the core reports tags (zones, lesion)
-  std::string y = biopsy_yaml();
+  std::string y = test::biopsy_yaml();
   y.replace(y.find("  - {name: tumour,"), y.find("links:") - y.find("  - {name: tumour,"), "");
   y.replace(y.find("links:"), y.find("constraints:") - y.find("links:"),
             "tags:\n  - {name: lesion, component: prostate, region: {box: {min_mm: [-12, -12, -9.5], max_mm: [12, 12, -2.5]}}}\n");
@@ -96,7 +71,7 @@ TEST(Biopsy, TumourGivenAsAParticleTagIsMeasuredInTheCore) {
 }
 
 TEST(Biopsy, InteractiveFireAdvancesFromTheCommandedPose) {
-  std::string y = biopsy_yaml();
+  std::string y = test::biopsy_yaml();
   y.replace(y.find("fire_s: 0.5"), std::string("fire_s: 0.5").size(), "fire_s: 100");
   auto s = test::make_needle_scene(y);
   for (int i = 0; i < 500; ++i) ASSERT_TRUE(s.sim->tick());
@@ -156,6 +131,10 @@ TEST(Biopsy, CoreAimedAtTheLesionOfTheDefaultAnatomyIsNamedByItsZones) {
   EXPECT_EQ(other, 0) << "the notch lies inside the gland";
   const CoreSite site = core_site(core);
   EXPECT_EQ(site.label, "right mid medial (peripheral)");
+  // the cores CSV of `prostatesim insert` carries it in its last column
+  const std::string csv = cores_csv(*s.tool);
+  EXPECT_EQ(csv.substr(0, csv.find('\n')).substr(csv.find('\n') - 5), ",site");
+  EXPECT_NE(csv.find(",right mid medial (peripheral)\n"), std::string::npos) << csv;
   ASSERT_EQ(site.lesions.size(), 1u);
   EXPECT_EQ(site.lesions[0].first, "lesion");
   EXPECT_EQ(core.tumour_particles, site.lesions[0].second) << "'lesion' counts as tumour";

@@ -69,6 +69,33 @@ inline std::string vertical_needle(const std::string& name, double x_mm, double 
          ", 1]\n      direction: [0, 0, -1]\n      script: " + script + "\n" + extra;
 }
 
+// A 24 x 24 x 16 mm gland block over a tumour block, and an 18G biopsy gun fired 22 mm at 0.5 s
+// (biopsy tests, the cores CSV of `prostatesim insert`).
+inline std::string biopsy_yaml() {
+  return "name: biopsy\n"
+         "time: {dt_ms: 1, substeps: 1, duration_s: 1}\n"
+         "gravity_m_s2: [0, 0, 0]\n"
+         "materials:\n"
+         "  gland: {young_kpa: 15, density_kg_m3: 1060, damping_1_s: 30, k_c_n: 0.5, k_f_n: 0.025}\n"
+         "  lesion: {young_kpa: 30, density_kg_m3: 1060, damping_1_s: 30, k_c_n: 0.8, k_f_n: 0.04}\n"
+         "components:\n"
+         "  - {name: prostate, material: gland, spacing_mm: 4, box: {min_mm: [-12, -12, -16], max_mm: [12, 12, 0]}}\n"
+         "  - {name: tumour, material: lesion, spacing_mm: 4, box: {min_mm: [-12, -12, -40], max_mm: [12, 12, -20]}}\n"
+         "links:\n"
+         "  - {a: prostate, b: tumour, distance_mm: 5}\n"
+         "constraints:\n"
+         "  - fix: {component: tumour, region: {box: {min_mm: [-100, -100, -41], max_mm: [100, 100, -39]}}}\n"
+         "needles:\n"
+         "  puncture_n: {prostate: 2.5}\n"
+         "  instruments:\n"
+         "    - name: gun\n"
+         "      preset: biopsy_18g\n"
+         "      start_mm: [1.3, 0.9, 1]\n"
+         "      direction: [0, 0, -1]\n"
+         "      script: [[0, 0], [0.4, 8]]\n"
+         "      gun: {fire_s: 0.5, stroke_mm: 22, duration_ms: 15}\n";
+}
+
 struct NeedleScene {
   ScenarioSpec spec;
   std::shared_ptr<const Model> model;
