@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 using Result = ps::test::CliResult;
 Result run(const std::string& args) { return ps::test::run_cli(args); }
 
-fs::path temp_dir(const std::string& name) { return ps::test::cli_temp_dir(name); }
+fs::path temp_dir(const std::string& name) { return ps::test::cli_temp_dir("cli_" + name); }
 std::string read(const fs::path& p) { return ps::test::read_text(p); }
 
 const std::string kSource = PROSTATESIM_SOURCE_DIR;

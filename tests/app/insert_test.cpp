@@ -19,12 +19,7 @@ using ps::test::block_yaml;
 using ps::test::run_cli;
 using ps::test::vertical_needle;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("prostatesim_insert_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir(const std::string& name) { return ps::test::cli_temp_dir("insert_" + name); }
 
 std::string read(const fs::path& p) {
   std::ifstream in(p);

@@ -29,8 +29,8 @@ std::string slurp(const fs::path& p) {
 }
 
 TEST(MakeAnatomy, ReproducesTheCommittedAssets) {
-  const fs::path out = fs::temp_directory_path() / ("prostatesim_anatomy_" + std::to_string(::getpid()));
-  fs::remove_all(out);
+  const fs::path out = ps::test::cli_temp_dir("anatomy");
+  fs::remove_all(out);   // make-anatomy creates it
   const Result r = run_cli("make-anatomy --out " + out.string());
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("prostate"), std::string::npos);
@@ -65,9 +65,7 @@ struct BadMeshRun {
 };
 
 BadMeshRun simulate_mesh(const std::string& name, const std::string& mesh_bytes, const std::string& mesh_keys) {
-  const fs::path dir = fs::temp_directory_path() / ("prostatesim_badmesh_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = ps::test::cli_temp_dir("badmesh_" + name);
   const std::string file = name.substr(0, name.find('.')) == name ? name + ".obj" : name;
   std::ofstream(dir / file, std::ios::binary) << mesh_bytes;
   std::ofstream(dir / "scene.yaml") << "name: bad_mesh\n"
@@ -94,9 +92,7 @@ const char* kTetra = "v 0 0 0\nv 10 0 0\nv 0 10 0\nv 0 0 10\nf 1 3 2\nf 1 2 4\nf
 
 // config/biopsy.yaml with its bladder moved by translate_mm (a wrong placement or unit).
 BadMeshRun simulate_moved_bladder(const std::string& name, const std::string& translate_mm) {
-  const fs::path dir = fs::temp_directory_path() / ("prostatesim_badmesh_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = ps::test::cli_temp_dir("badmesh_" + name);
   std::string y = slurp(fs::path(PROSTATESIM_SOURCE_DIR) / "config" / "biopsy.yaml");
   const std::string assets = (fs::path(PROSTATESIM_SOURCE_DIR) / "assets" / "anatomy").string() + "/";
   for (size_t at; (at = y.find("../assets/anatomy/")) != std::string::npos;) y.replace(at, 18, assets);

@@ -9,6 +9,10 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <system_error>
+#include <vector>
+
+#include <gtest/gtest.h>
 
 namespace ps::test {
 
@@ -28,12 +32,31 @@ inline CliResult run_cli(const std::string& args) {
   return r;
 }
 
-// A fresh empty folder for one test: <tmp>/prostatesim_cli_<name>_<pid>.
+// Folders made by cli_temp_dir in this test process.
+inline std::vector<std::filesystem::path>& cli_temp_dirs() {
+  static std::vector<std::filesystem::path> dirs;
+  return dirs;
+}
+
+// Removes those folders when the whole test program passed (a failure keeps them to look at).
+class CliTempDirCleanup : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    if (!::testing::UnitTest::GetInstance()->Passed()) return;
+    std::error_code ec;
+    for (const auto& d : cli_temp_dirs()) std::filesystem::remove_all(d, ec);
+  }
+};
+inline const bool kCliTempDirCleanupRegistered =
+    (::testing::AddGlobalTestEnvironment(new CliTempDirCleanup), true);
+
+// A fresh empty folder for one test: <tmp>/prostatesim_<name>_<pid>, removed after a passing run.
 inline std::filesystem::path cli_temp_dir(const std::string& name) {
   const std::filesystem::path d =
-      std::filesystem::temp_directory_path() / ("prostatesim_cli_" + name + "_" + std::to_string(::getpid()));
+      std::filesystem::temp_directory_path() / ("prostatesim_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
+  cli_temp_dirs().push_back(d);
   return d;
 }
 
