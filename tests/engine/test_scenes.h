@@ -1,9 +1,13 @@
 // Small scenario texts shared by engine tests.
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
+#include "engine/state/state.h"
 
 namespace ps::test {
 
@@ -28,6 +32,26 @@ inline std::string cube_yaml(double side_mm = 40, double spacing_mm = 10, bool i
 
 inline std::shared_ptr<const Model> compile_text(const std::string& yaml) {
   return compile_scenario(parse_scenario_text(yaml, "test.yaml"));
+}
+
+// Central-difference check of a force against an energy: over every stride-th particle of s,
+// returns {largest |-(dE/dx) - force|, largest |force|} (the second scales the first) [N].
+// `energy(s)` must not change s.x; s.x is restored after each probe.
+template <class Energy>
+std::pair<double, double> gradient_mismatch(State& s, const std::vector<Vec3>& force, int stride, Energy energy) {
+  double worst = 0, scale = 0;
+  for (size_t p = 0; p < s.x.size(); p += static_cast<size_t>(stride))
+    for (int a = 0; a < 3; ++a) {
+      const double h = 1e-7, x0 = s.x[p][a];
+      s.x[p][a] = x0 + h;
+      const double ep = energy(s);
+      s.x[p][a] = x0 - h;
+      const double em = energy(s);
+      s.x[p][a] = x0;
+      worst = std::max(worst, std::abs(-(ep - em) / (2 * h) - force[p][a]));
+      scale = std::max(scale, std::abs(force[p][a]));
+    }
+  return {worst, scale};
 }
 
 }  // namespace ps::test

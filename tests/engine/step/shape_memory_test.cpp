@@ -28,20 +28,7 @@ TEST(ShapeMemoryForce, IsTheGradientOfTheShapeEnergy) {
   for (int p = 0; p < m->particle_count(); ++p) s.x[p] = m->rest_pos[p] + Vec3(N(rng), N(rng), N(rng));
   shape_energy(*m, s);
   const std::vector<Vec3> force = s.f;
-  double worst = 0, scale = 0;
-  for (int p = 0; p < m->particle_count(); p += 7) {
-    for (int a = 0; a < 3; ++a) {
-      const double h = 1e-7, x0 = s.x[p][a];
-      s.x[p][a] = x0 + h;
-      const double ep = shape_energy(*m, s);
-      s.x[p][a] = x0 - h;
-      const double em = shape_energy(*m, s);
-      s.x[p][a] = x0;
-      const double fd = -(ep - em) / (2 * h);
-      worst = std::max(worst, std::abs(fd - force[p][a]));
-      scale = std::max(scale, std::abs(force[p][a]));
-    }
-  }
+  const auto [worst, scale] = test::gradient_mismatch(s, force, 7, [&](State& st) { return shape_energy(*m, st); });
   EXPECT_LE(worst, 1e-5 * scale);
 }
 

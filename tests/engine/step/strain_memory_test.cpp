@@ -45,18 +45,7 @@ TEST(StrainMemoryForce, IsTheGradientOfTheStrainEnergy) {
     std::normal_distribution<double> N(0.0, 1e-3);
     for (int p = 0; p < m->particle_count(); ++p) s.x[p] = R * F * m->rest_pos[p] + Vec3(N(rng), N(rng), N(rng));
     const std::vector<Vec3> force = strain_forces(*m, s);
-    double worst = 0, scale = 0;
-    for (int p = 0; p < m->particle_count(); p += 3)
-      for (int a = 0; a < 3; ++a) {
-        const double h = 1e-7, x0 = s.x[p][a];
-        s.x[p][a] = x0 + h;
-        const double ep = strain_memory_energy(*m, s);
-        s.x[p][a] = x0 - h;
-        const double em = strain_memory_energy(*m, s);
-        s.x[p][a] = x0;
-        worst = std::max(worst, std::abs(-(ep - em) / (2 * h) - force[p][a]));
-        scale = std::max(scale, std::abs(force[p][a]));
-      }
+    const auto [worst, scale] = test::gradient_mismatch(s, force, 3, [&](State& st) { return strain_memory_energy(*m, st); });
     ASSERT_GT(scale, 0.0);
     EXPECT_LE(worst, 1e-6 * scale) << m->name;
     // momentum: forces sum to zero, torques too
