@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "engine/draw/draw_sink.h"
 #include "engine/model/model.h"
 #include "engine/state/state.h"
 
@@ -26,6 +27,9 @@ class Tool {
   virtual void constraints(const Model&, State&, double /*dt*/) {}
   // after the check: events, read-outs
   virtual void after_step(const Model&, State&, double /*dt*/) {}
+  // outside the step (render/UI thread side of a snapshot): describe the tool's geometry
+  // (engine/draw/draw_sink.h). Must not change the tool.
+  virtual void draw(DrawSink&, const Model&, const State&) const {}
 };
 
 enum class Stage : uint8_t {
