@@ -163,8 +163,11 @@ StressResult stable_substep(const ScenarioSpec& spec, const StressOptions& opt, 
 // The largest elastic component gets a sphere `ratio` times stiffer at its centroid.
 StressResult stiff_inclusion(const ScenarioSpec& spec, const StressOptions& opt, double ratio, const Model& m0) {
   StressResult r{spec.name, fmt("stiff_inclusion_%g", ratio)};
-  int best = -1;
-  for (size_t c = 0; c < m0.components.size(); ++c)
+  // A lesion-like inclusion in the prostate where the scene has one, else in the largest elastic
+  // component (a bone-like inclusion in soft fat).
+  int best = m0.find_component("prostate");
+  if (best >= 0 && m0.components[best].kind != ComponentKind::Elastic) best = -1;
+  for (size_t c = 0; c < m0.components.size() && m0.find_component("prostate") < 0; ++c)
     if (m0.components[c].kind == ComponentKind::Elastic &&
         (best < 0 || m0.components[c].particle_count > m0.components[best].particle_count))
       best = static_cast<int>(c);
@@ -183,7 +186,7 @@ StressResult stiff_inclusion(const ScenarioSpec& spec, const StressOptions& opt,
   o.component = comp.name;
   o.region.kind = RegionSpec::Sphere;
   o.region.center = centre;
-  o.region.radius = 2.5 * cs->spacing;
+  o.region.radius = 1.5 * cs->spacing;  // a lesion-sized sphere holding a few particles
   if (mat->young) o.young = *mat->young * ratio;
   if (mat->k_e) o.k_e = *mat->k_e * ratio;
   o.loc = mat->loc;
@@ -208,6 +211,7 @@ StressResult needle_case(const ScenarioSpec& spec, const StressOptions& opt, con
   ScenarioSpec s = spec;
   s.needles.needles.resize(1);
   NeedleSpec& n = s.needles.needles[0];
+  n.seed_depths.clear();  // the stressed script no longer reaches the planned seed depths
   double run = opt.run_s;
   if (which == "needle_1m_s") {
     const double depth = opt.quick ? 0.03 : 0.06;  // [m]
@@ -223,11 +227,11 @@ StressResult needle_case(const ScenarioSpec& spec, const StressOptions& opt, con
     run = g.fire_time + g.duration + g.settle + 0.01;
     r.tried = "needle '" + n.name + "' gun fired at 5 ms: " + fmt("%.0f mm stroke in %.0f ms", g.stroke * 1e3, g.duration * 1e3);
   } else {  // pullback_stuck: in slowly so the shaft is held by friction, then out at 1 m/s
-    const double depth = 0.02;
-    n.script = {{0.0, 0.0}, {0.1, depth}, {0.11, depth}, {0.11 + depth / 1.0, 0.0}};
+    const double depth = opt.quick ? 0.01 : 0.02, in = depth / 0.2;  // [m], [s] at 0.2 m/s
+    n.script = {{0.0, 0.0}, {in, depth}, {in + 0.01, depth}, {in + 0.01 + depth / 1.0, 0.0}};
     n.gun.reset();
-    run = 0.11 + depth + 0.01;
-    r.tried = "needle '" + n.name + "' in 20 mm at 0.2 m/s, then pulled out at 1 m/s while stuck";
+    run = in + 0.01 + depth + 0.01;
+    r.tried = "needle '" + n.name + fmt("' in %.0f mm at 0.2 m/s, then pulled out at 1 m/s while stuck", depth * 1e3);
   }
   Scene sc = build(s, m0);
   const Outcome out = run_watched(sc, run, opt.budget_s);
