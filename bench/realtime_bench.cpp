@@ -73,12 +73,13 @@ void BM_Realtime(benchmark::State& state, const char* scene) {
   state.counters["particles"] = model->particle_count();
 }
 
-// {triplets, substeps, mass_scaling}: {0, 0, -1} is the scene as shipped; {0, 0, 0} the paper's
-// explicit scheme at the compiler's substep (the "before")
+// {triplets, substeps, mass_scaling}: {0, 0, -1} is the scene as shipped (the paper's explicit
+// scheme at the compiler's substep); {0, S, 1} solver.mass_scaling at half the file's substeps,
+// the setting whose error against the converged reference is measured (docs/performance.md)
 BENCHMARK_CAPTURE(BM_Realtime, biopsy, "biopsy")
-    ->Args({0, 0, -1})->Args({0, 0, 0})->Iterations(kTicks)->UseManualTime()->Unit(benchmark::kMicrosecond);
+    ->Args({0, 0, -1})->Args({0, 9, 1})->Iterations(kTicks)->UseManualTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Realtime, brachytherapy, "brachytherapy")
-    ->Args({0, 0, -1})->Args({0, 0, 0})->Iterations(kTicks)->UseManualTime()->Unit(benchmark::kMicrosecond);
+    ->Args({0, 0, -1})->Args({0, 7, 1})->Iterations(kTicks)->UseManualTime()->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace ps::bench
