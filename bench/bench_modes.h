@@ -18,6 +18,9 @@ int run_steps(const std::string& scene, int steps); // modes.cpp
 int verify_shape_memory();                          // modes.cpp
 int stable_dt_study(int steps);                     // stable_dt.cpp
 int soak(int substeps);                             // soak.cpp
+int stable_dt_profile(const std::string& file);     // stable_dt_profile.cpp
+int fast_error(const std::string& scene, int substeps, int mass_scaling, int triplets, double duration,
+               int ref_substeps);  // fast_error.cpp
 
 // The shape-memory stage exactly as it was before the performance work (reference_shape_memory.cpp):
 // kept so one binary measures the speed-up and checks the optimised stage against it.

@@ -6,6 +6,9 @@
 //                                              only those N substeps are counted
 //   prostatesim_bench --verify                 optimised shape memory vs the reference copy
 //   prostatesim_bench --stable-dt [N]          largest stable substep vs the estimate (N substeps)
+//   prostatesim_bench --dt-profile FILE        what sets FILE's stable substep (particles, terms)
+//   prostatesim_bench --fast-error SCENE SUBSTEPS MASS_SCALING TRIPLETS DURATION_S [REF_SUBSTEPS]
+//                                              fast configuration vs the converged reference
 //   prostatesim_bench --soak [N]               config/biopsy.yaml with its tools for N substeps
 //                                              (default 100000): no fault, finite, volumes held
 #include <benchmark/benchmark.h>
@@ -24,6 +27,10 @@ int main(int argc, char** argv) {
     return ps::bench::run_steps(argv[2], std::atoi(argv[3]));
   if (argc >= 2 && std::strcmp(argv[1], "--stable-dt") == 0)
     return ps::bench::stable_dt_study(argc >= 3 ? std::atoi(argv[2]) : 20000);
+  if (argc >= 3 && std::strcmp(argv[1], "--dt-profile") == 0) return ps::bench::stable_dt_profile(argv[2]);
+  if (argc >= 7 && std::strcmp(argv[1], "--fast-error") == 0)
+    return ps::bench::fast_error(argv[2], std::atoi(argv[3]), std::atoi(argv[4]), std::atoi(argv[5]),
+                                 std::atof(argv[6]), argc >= 8 ? std::atoi(argv[7]) : 0);
   if (argc >= 2 && std::strcmp(argv[1], "--soak") == 0) return ps::bench::soak(argc >= 3 ? std::atoi(argv[2]) : 100000);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

@@ -1,5 +1,6 @@
 #include "engine/model/discrete_coordinates.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine/model/triplet_chunks.h"
@@ -35,9 +36,11 @@ void compute_discrete_coordinates(Model& model) {
     for (int a = s; a < e; ++a) size = std::max(size, (model.rest_pos[model.nbr[a]] - P).norm());
     if (!(size > 0.0)) throw CompileError(who(model, p) + ": all neighbours coincide with the particle");
 
-    // accumulate alpha per neighbour and the beta triplets; divide by m at the end
-    int m = 0;
-    const int first_beta = static_cast<int>(model.beta.size());
+    // every valid triplet with its barycentric alphas, beta and conditioning score; kept in
+    // enumeration order, then (solver.triplets) the best max_triplets of them
+    struct Cand { int a, b, c; double ai, aj, ak, beta, score; };
+    Cand cand[kMaxCandidates];
+    int nc = 0;
     for (int a = s; a < e; ++a)
       for (int b = a + 1; b < e; ++b)
         for (int c = b + 1; c < e; ++c) {
@@ -57,13 +60,35 @@ void compute_discrete_coordinates(Model& model) {
           const double aj = (Q - Ni).cross(eik).dot(nrm) / area2;
           const double ak = eij.cross(Q - Ni).dot(nrm) / area2;
           const double ai = 1.0 - aj - ak;
-          model.nbr_w[a] += ai;
-          model.nbr_w[b] += aj;
-          model.nbr_w[c] += ak;
-          if (std::abs(beta) > kBetaZeroRelative * size)
-            model.beta.push_back(BetaTriplet{model.nbr[a], model.nbr[b], model.nbr[c], beta});
-          ++m;
+          // bound on |dP*_t/dx| summed over the three vertices: the affine weights plus the
+          // normal term, |beta| |opposite edge| / |n| per vertex (as needle_coupling.cpp bounds
+          // an anchor). Large for slivers and for a particle far off a small triangle.
+          const double ln = nrm.norm();
+          const double score = std::abs(ai) + std::abs(aj) + std::abs(ak) +
+                               std::abs(beta) * (ejk.norm() + eik.norm() + eij.norm()) / ln;
+          cand[nc++] = Cand{a, b, c, ai, aj, ak, beta, score};
         }
+    if (model.max_triplets > 0 && nc > model.max_triplets) {
+      // best-conditioned first; ties by enumeration order (deterministic)
+      int idx[kMaxCandidates];
+      for (int i = 0; i < nc; ++i) idx[i] = i;
+      std::stable_sort(idx, idx + nc, [&](int x, int y) { return cand[x].score < cand[y].score; });
+      std::sort(idx, idx + model.max_triplets);  // back to enumeration order
+      for (int i = 0; i < model.max_triplets; ++i) cand[i] = cand[idx[i]];
+      nc = model.max_triplets;
+    }
+    // accumulate alpha per neighbour and the beta triplets; divide by m at the end
+    int m = 0;
+    const int first_beta = static_cast<int>(model.beta.size());
+    for (int i = 0; i < nc; ++i) {
+      const Cand& t = cand[i];
+      model.nbr_w[t.a] += t.ai;
+      model.nbr_w[t.b] += t.aj;
+      model.nbr_w[t.c] += t.ak;
+      if (std::abs(t.beta) > kBetaZeroRelative * size)
+        model.beta.push_back(BetaTriplet{model.nbr[t.a], model.nbr[t.b], model.nbr[t.c], t.beta});
+      ++m;
+    }
     if (m == 0)
       throw CompileError(who(model, p) + ": neighbourhood is degenerate: all " + std::to_string(nn) +
                          " neighbours are collinear, no valid triplet");

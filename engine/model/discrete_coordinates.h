@@ -16,6 +16,7 @@ inline constexpr double kTripletQualityMin = 0.02;
 inline constexpr double kBetaZeroRelative = 1e-9;
 // More neighbours than this make C(n,3) triplets too costly; the compiler refuses.
 inline constexpr int kMaxNeighbours = 16;
+inline constexpr int kMaxCandidates = 560;  // C(16, 3): every triplet of kMaxNeighbours
 
 // Fills model.nbr_w, model.beta_start, model.beta, model.triplet_count (and the chunk layout of
 // the beta triplets, build_triplet_chunks in triplet_chunks.h) from model.rest_pos,

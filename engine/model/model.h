@@ -149,6 +149,11 @@ struct Model {
   double duration = 1.0;           // default simulated duration [s]
   Vec3 gravity = Vec3::Zero();     // [m/s^2]
   Redistribution redistribution = Redistribution::Gradient;
+  // Triplet selection (solver.triplets): 0 keeps every valid triplet of C(n,3) (the paper's
+  // scheme); N > 0 keeps each particle's N best-conditioned ones (smallest bound on |dP*_t/dx|,
+  // engine/model/discrete_coordinates.cpp). Fewer triplets cost less per substep and drop the
+  // ill-conditioned ones that set the stable substep (docs/performance.md).
+  int max_triplets = 0;
 
   // particles [n]
   std::vector<Vec3> rest_pos;      // [n] rest positions [m]
@@ -205,6 +210,11 @@ struct Model {
 
   // stability
   double stable_dt_estimate = 0.0; // largest stable substep, undamped linearisation [s]
+  // solver.mass_scaling (compile.cpp scale_inertia_to_substep): inertial mass added so that the
+  // file's substep is stable instead of raising the substep count; gravity still acts on `mass`
+  // and the damping force c m v is kept (damping rate scaled down by the same factor)
+  double added_inertia = 0.0;      // total inertial mass added [kg]
+  double largest_inertia_factor = 1.0; // largest m_inertial / m of one particle [-]
 
   // safety limits checked each step
   double max_speed = 50.0;         // a particle faster than this is a blow-up [m/s]

@@ -107,6 +107,53 @@ double estimate_stable_dt(const Model& m) {
   return lambda > 0.0 ? 2.0 / std::sqrt(lambda) : std::numeric_limits<double>::infinity();
 }
 
+// Selective mass scaling (a standard device of explicit dynamics): the particles whose
+// stiffness-to-mass ratio sets the stable substep get more inertial mass, so that the file's
+// substep h = dt / substeps is at most `margin` of the new limit. Gravity keeps acting on the
+// physical mass (forces.cpp reads Model::mass); the implicit damping v /= (1 + c h) is
+// proportional to the inertial mass, so each scaled particle's damping rate is divided by the
+// same factor and its damping force c m v is unchanged. Which particles: a per-particle stiffness
+// proxy d_p (k_e of its own attractor plus the shares of the attractors it enters, w^2 k_e, and,
+// for strain clusters, (2 mu V + lambda V) |g|^2 + k_r) gives m_p' = max(m_p, A d_p h^2 / 4); the
+// amplification A starts at 2 and grows until the power-iteration estimate of the whole scene
+// (any force stage, estimate_stable_dt) admits h. Deterministic; compile time only.
+void scale_inertia_to_substep(Model& m, double margin) {
+  const int n = m.particle_count();
+  const double h = m.dt / m.substeps;
+  if (!(m.stable_dt_estimate * margin < h)) return;
+  std::vector<double> d(n, 0.0);
+  for (int p = 0; p < n; ++p) {
+    if (!m.shape_memory[p]) continue;
+    d[p] += m.k_e[p];
+    for (int a = m.nbr_start[p]; a < m.nbr_start[p + 1]; ++a) d[m.nbr[a]] += m.k_e[p] * m.nbr_w[a] * m.nbr_w[a];
+  }
+  const StrainClusters& sc = m.strain;
+  for (int c = 0; c < sc.count(); ++c)
+    for (int i = sc.start[c]; i < sc.start[c + 1]; ++i)
+      d[sc.member[i]] += (sc.mu2v[c] + sc.k_v[c]) * sc.g[i].squaredNorm() + sc.k_r[c];
+  const std::vector<double> inv_mass0 = m.inv_mass, damping0 = m.damping;
+  double A = 2.0;
+  for (int it = 0; it < 40 && m.stable_dt_estimate * margin < h; ++it) {
+    const double want = h / margin;  // the limit the estimate must reach [s]
+    m.added_inertia = 0.0;
+    m.largest_inertia_factor = 1.0;
+    for (int p = 0; p < n; ++p) {
+      m.inv_mass[p] = inv_mass0[p];
+      m.damping[p] = damping0[p];
+      if (inv_mass0[p] == 0.0 || d[p] == 0.0) continue;
+      const double need = A * d[p] * want * want / 4.0;  // inertial mass for omega_p want <= 2 [kg]
+      if (need * inv_mass0[p] <= 1.0) continue;
+      m.inv_mass[p] = 1.0 / need;
+      m.damping[p] = damping0[p] * need * inv_mass0[p] > 0.0 ? damping0[p] / (need * inv_mass0[p]) : 0.0;
+      m.added_inertia += need - m.mass[p];
+      m.largest_inertia_factor = std::max(m.largest_inertia_factor, need * inv_mass0[p]);
+    }
+    m.stable_dt_estimate = estimate_stable_dt(m);
+    const double r = want / m.stable_dt_estimate;
+    A *= std::max(1.05, r * r);
+  }
+}
+
 std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileReport* report) {
   const auto t_start = std::chrono::steady_clock::now();
   check_scenario_size(spec);  // refuses before allocating: names the spacing_mm to change
@@ -119,6 +166,7 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   m.duration = spec.duration;
   m.gravity = spec.gravity;
   m.redistribution = spec.linear_redistribution ? Redistribution::Linear : Redistribution::Gradient;
+  m.max_triplets = spec.max_triplets;
   std::vector<std::string> warnings;
 
   // particles of every component, contiguous per component
@@ -406,8 +454,10 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
       }
   }
 
-  // stability: raise substeps so each substep is at most 90% of the estimated limit
+  // stability: raise substeps so each substep is at most 90% of the estimated limit, or (with
+  // solver.mass_scaling) add inertia to the particles that set the limit
   m.stable_dt_estimate = estimate_stable_dt(m);
+  if (spec.mass_scaling) scale_inertia_to_substep(m, 0.9);
   const double h = m.dt / m.substeps;
   if (h > 0.9 * m.stable_dt_estimate) {
     // In double first: a stiffness like young_kpa 1e9 gives a stable step so small that the count

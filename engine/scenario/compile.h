@@ -24,5 +24,9 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
 // dt = 2 / sqrt(lambda_max(M^-1 K)), lambda_max by power iteration on finite differences of the
 // shape-memory force. [s]
 double estimate_stable_dt(const Model& model);
+// solver.mass_scaling: inertial mass on the particles that set the stable substep, until the
+// model's substep dt/substeps is at most `margin` of the estimate (compile.cpp); updates
+// inv_mass, damping, stable_dt_estimate, added_inertia, largest_inertia_factor.
+void scale_inertia_to_substep(Model& model, double margin);
 
 }  // namespace ps

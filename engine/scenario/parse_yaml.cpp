@@ -297,7 +297,16 @@ ScenarioSpec parse_scenario_impl(const std::string& text, const std::string& pat
   }
   if (root["solver"]) {
     const YAML::Node t = root["solver"];
-    r.only_keys(t, "solver", {"redistribution"});
+    r.only_keys(t, "solver", {"redistribution", "triplets", "mass_scaling"});
+    if (t["mass_scaling"]) s.mass_scaling = r.boolean(t["mass_scaling"], "solver.mass_scaling");
+    if (t["triplets"]) {
+      if (t["triplets"].IsScalar() && t["triplets"].Scalar() == "all") s.max_triplets = 0;
+      else {
+        s.max_triplets = r.integer(t["triplets"], "solver.triplets");
+        if (s.max_triplets < 1 || s.max_triplets > 560)
+          r.fail(t["triplets"], "solver.triplets", "must be all or a count in 1..560");
+      }
+    }
     if (t["redistribution"]) {
       const std::string v = r.string(t["redistribution"], "solver.redistribution");
       if (v == "linear") s.linear_redistribution = true;

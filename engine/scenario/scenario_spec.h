@@ -183,6 +183,8 @@ struct ScenarioSpec {
   double rest_kinetic_energy = 1e-7; // --until-rest threshold on kinetic energy [J]
   double rest_hold = 0.05;         // ... held for this long [s]
   bool linear_redistribution = false;  // solver.redistribution: linear (paper literal) | gradient
+  int max_triplets = 0;            // solver.triplets: all (0) | N best-conditioned per particle
+  bool mass_scaling = false;       // solver.mass_scaling: scale inertia to the file's substep
   std::vector<MaterialSpec> materials;
   std::vector<ComponentSpec> components;
   std::vector<ConstraintSpec> constraints;

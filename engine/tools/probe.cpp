@@ -309,7 +309,7 @@ double ProbeTool::contact_pass(const Model& m, State& s, double inv_dt2) {
     const Vec3 nrm = len > 1e-12 ? Vec3(r / len) : frame_.anterior();  // on the axis: push anteriorly
     const Vec3 xn = q + c.radius * nrm;
     const Vec3 dx = xn - x;
-    add_reaction(xn, dx, m.mass[p], inv_dt2);
+    add_reaction(xn, dx, 1.0 / m.inv_mass[p], inv_dt2);  // inertial mass (solver.mass_scaling)
     max_dx = std::max(max_dx, dx.norm());
     s.x[p] = xn;
     s.contact[p] = 7;
@@ -342,7 +342,7 @@ void ProbeTool::imposed_pass(const Model& m, State& s, double inv_dt2) {
       coupled_[slot] = 1;
     }
     const Vec3 xn = o + R * local_[slot];
-    add_reaction(xn, xn - s.x[t], m.mass[t], inv_dt2);
+    add_reaction(xn, xn - s.x[t], 1.0 / m.inv_mass[t], inv_dt2);  // movable: inv_mass > 0
     s.x[t] = xn;
     s.contact[t] = 7;
   }

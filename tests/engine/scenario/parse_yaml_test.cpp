@@ -46,6 +46,9 @@ TEST(ParseYaml, BadInputNamesFileLineAndKey) {
       {"bad vector", base_with(soft, "") + "gravity_m_s2: [0, 1]\n", "gravity_m_s2", 9},
       {"empty components", "name: t\nmaterials:\n  soft: {young_kpa: 1}\ncomponents: []\n", "components", 4},
       {"unknown top-level", base_with(soft, "") + "gravitee: 3\n", "gravitee", 9},
+      {"triplets zero", base_with(soft, "") + "solver: {triplets: 0}\n", "solver.triplets", 9},
+      {"triplets word", base_with(soft, "") + "solver: {triplets: some}\n", "solver.triplets", 9},
+      {"mass scaling not a bool", base_with(soft, "") + "solver: {mass_scaling: 3}\n", "solver.mass_scaling", 9},
   };
   for (const auto& c : cases) {
     try {

@@ -1,0 +1,61 @@
+// `prostatesim_bench --fast-error SCENE SUBSTEPS MASS_SCALING TRIPLETS DURATION_S [REF_SUBSTEPS]`:
+// error of a fast configuration (SUBSTEPS per tick, 0 = the file's; solver.mass_scaling 0/1, -1 =
+// the file's; solver.triplets = TRIPLETS, 0 = all)
+// against the converged reference (the paper's scheme, every triplet, REF_SUBSTEPS per tick,
+// default 2x the file's) on the scene's own needle insertion (bench/realtime_scenes.h), over
+// DURATION_S of simulated time. Prints the figures the budget names: needle force RMS
+// error / its peak (<= 10 %), puncture depths (<= 1 mm), prostate and target displacement
+// (<= 0.5 mm), volumes (exact), and whether the budget holds (exit 0) or not (exit 1).
+#include <cstdio>
+#include <cstdlib>
+
+#include "bench/bench_modes.h"
+#include "bench/realtime_scenes.h"
+#include "engine/scenario/compile.h"
+#include "engine/sim/trajectory.h"
+
+namespace ps::bench {
+
+int fast_error(const std::string& scene, int substeps, int mass_scaling, int triplets, double duration,
+               int ref_substeps) {
+  const ScenarioSpec ref_spec0 = realtime_scene(scene);
+  if (ref_substeps <= 0) ref_substeps = 2 * ref_spec0.substeps;
+  const ScenarioSpec ref_spec = realtime_scene(scene, 0, ref_substeps, 0);
+  const ScenarioSpec fast_spec = realtime_scene(scene, triplets, substeps, mass_scaling);
+  auto ref_model = compile_scenario(ref_spec);
+  auto fast_model = compile_scenario(fast_spec);
+  const Vec3 target = realtime_target(scene, ref_spec);
+  std::printf("%s: reference all triplets, %d substeps (estimate %.4g ms); fast %d triplets, %d substeps "
+              "(estimate %.4g ms), mass scaling %s (added inertia %.4g g, largest factor %.3g); %.3f s\n",
+              scene.c_str(), ref_model->substeps, ref_model->stable_dt_estimate * 1e3, triplets, fast_model->substeps,
+              fast_model->stable_dt_estimate * 1e3, fast_spec.mass_scaling ? "on" : "off",
+              fast_model->added_inertia * 1e3, fast_model->largest_inertia_factor, duration);
+  std::fflush(stdout);
+  const Trajectory ref = record_trajectory(ref_spec, ref_model, duration, target);
+  const Trajectory fast = record_trajectory(fast_spec, fast_model, duration, target);
+  if (ref.faulted || fast.faulted) {
+    std::printf("fault: reference %s, fast %s\n", ref.fault.c_str(), fast.fault.c_str());
+    return 1;
+  }
+  const TrajectoryError e = compare_trajectories(fast, ref);
+  const double force_rel = e.force_peak > 0 ? e.force_rms / e.force_peak : 0.0;
+  std::printf("needle force RMS error %.4g N = %.2f %% of its peak %.4g N (budget 10 %%)\n", e.force_rms,
+              100 * force_rel, e.force_peak);
+  std::printf("punctures: reference %zu, fast %zu, unmatched %d, largest depth difference %.3f mm (budget 1 mm)\n",
+              ref.punctures.size(), fast.punctures.size(), e.puncture_mismatch, e.puncture_depth * 1e3);
+  for (const PunctureRecord& p : ref.punctures)
+    std::printf("  reference puncture: needle %d component %d at %.4f s, depth %.2f mm, force %.3f N\n", p.needle,
+                p.component, p.time, p.depth * 1e3, p.force);
+  for (const PunctureRecord& p : fast.punctures)
+    std::printf("  fast puncture:      needle %d component %d at %.4f s, depth %.2f mm, force %.3f N\n", p.needle,
+                p.component, p.time, p.depth * 1e3, p.force);
+  std::printf("prostate displacement difference: RMS %.3f mm, max %.3f mm; target %.3f mm (budget 0.5 mm)\n",
+              e.prostate_rms * 1e3, e.prostate_max * 1e3, e.target * 1e3);
+  std::printf("volume error: fast %.3g, reference %.3g (exact: <= 1e-9)\n", e.volume, ref.worst_volume_error);
+  const bool ok = force_rel <= 0.10 && e.puncture_mismatch == 0 && e.puncture_depth <= 1e-3 &&
+                  e.prostate_rms <= 0.5e-3 && e.target <= 0.5e-3 && e.volume <= 1e-9;
+  std::printf("budget: %s\n", ok ? "held" : "NOT held");
+  return ok ? 0 : 1;
+}
+
+}  // namespace ps::bench

@@ -1,0 +1,37 @@
+// The default scenes with a needle inserting, as the realtime benchmark and the error study run
+// them (bench/realtime_bench.cpp, bench/fast_error.cpp):
+//   biopsy         config/biopsy.yaml; its needle (held in the file, moved by the trainee) gets
+//                  the script 0 -> 40 mm in 1 s along the guide: through the rectal wall at
+//                  ~8 mm, into the gland
+//   brachytherapy  config/brachytherapy.yaml as written (its needles advance at 20 mm/s from 0.3 s)
+// `triplets`, `substeps`, `mass_scaling` override solver.triplets (0: all), time.substeps and
+// solver.mass_scaling (0 off, 1 on) when >= 0.
+#pragma once
+#include <string>
+
+#include "engine/scenario/parse_yaml.h"
+
+namespace ps::bench {
+
+inline ScenarioSpec realtime_scene(const std::string& name, int triplets = -1, int substeps = -1,
+                                   int mass_scaling = -1) {
+  ScenarioSpec spec = parse_scenario_file(std::string(PROSTATESIM_SOURCE_DIR) + "/config/" + name + ".yaml");
+  if (name == "biopsy" && !spec.needles.needles.empty() && spec.needles.needles[0].script.empty())
+    spec.needles.needles[0].script = {{0.0, 0.0}, {1.0, 40e-3}};
+  if (triplets >= 0) spec.max_triplets = triplets;
+  if (substeps > 0) spec.substeps = substeps;
+  if (mass_scaling >= 0) spec.mass_scaling = mass_scaling != 0;
+  return spec;
+}
+
+// where the error study's target particle is: the lesion centre (biopsy), the first needle's
+// deepest planned point (brachytherapy) [m]
+inline Vec3 realtime_target(const std::string& name, const ScenarioSpec& spec) {
+  if (name == "biopsy") return Vec3(9e-3, -7e-3, 2e-3);
+  const NeedleSpec& n = spec.needles.needles.at(0);
+  double depth = 0.0;
+  for (const auto& pt : n.script) depth = std::max(depth, pt.depth);
+  return n.start + depth * n.direction.normalized();
+}
+
+}  // namespace ps::bench

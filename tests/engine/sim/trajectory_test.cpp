@@ -1,0 +1,67 @@
+// The fast mode against the converged reference (engine/sim/trajectory.h, docs/performance.md
+// "Error against the reference"), reduced to seconds: config/biopsy.yaml with its needle driven
+// into the rectal wall, the paper's explicit scheme at twice the file's substeps as reference,
+// and solver.mass_scaling at half the file's substeps (the realtime benchmark's fast mode) held
+// to the budget: needle force RMS error <= 10 % of its peak, prostate and target within
+// 0.5 mm, volumes exact. The full-length figures come from `prostatesim_bench --fast-error`.
+#include <gtest/gtest.h>
+
+#include "engine/scenario/compile.h"
+#include "engine/scenario/parse_yaml.h"
+#include "engine/sim/trajectory.h"
+
+namespace ps {
+namespace {
+
+ScenarioSpec biopsy(int substeps, bool mass_scaling) {
+  ScenarioSpec spec = parse_scenario_file(std::string(PROSTATESIM_SOURCE_DIR) + "/config/biopsy.yaml");
+  spec.needles.needles.at(0).script = {{0.0, 0.0}, {0.06, 12e-3}};  // 200 mm/s into the wall
+  spec.substeps = substeps;
+  spec.mass_scaling = mass_scaling;
+  return spec;
+}
+
+constexpr double kDuration = 0.06;  // [s]
+const Vec3 kLesion(9e-3, -7e-3, 2e-3);  // the file's lesion centre [m]
+
+TEST(Trajectory, SameRunTwiceIsBitIdentical) {
+  const ScenarioSpec spec = biopsy(9, true);
+  auto model = compile_scenario(spec);
+  const Trajectory a = record_trajectory(spec, model, 0.01, kLesion);
+  const Trajectory b = record_trajectory(spec, model, 0.01, kLesion);
+  ASSERT_FALSE(a.faulted) << a.fault;
+  ASSERT_EQ(a.watched.size(), b.watched.size());
+  for (size_t k = 0; k < a.watched.size(); ++k) {
+    EXPECT_EQ(a.force[k], b.force[k]);
+    for (size_t i = 0; i < a.watched[k].size(); ++i) ASSERT_EQ(a.watched[k][i], b.watched[k][i]);
+  }
+  const TrajectoryError e = compare_trajectories(a, b);
+  EXPECT_EQ(e.force_rms, 0.0);
+  EXPECT_EQ(e.prostate_max, 0.0);
+  EXPECT_EQ(e.target, 0.0);
+}
+
+TEST(Trajectory, MassScaledHalfSubstepsWithinBudgetOfConvergedReference) {
+  const ScenarioSpec file = parse_scenario_file(std::string(PROSTATESIM_SOURCE_DIR) + "/config/biopsy.yaml");
+  const ScenarioSpec ref_spec = biopsy(2 * file.substeps, false);
+  const ScenarioSpec fast_spec = biopsy((file.substeps + 1) / 2, true);
+  auto ref_model = compile_scenario(ref_spec);
+  auto fast_model = compile_scenario(fast_spec);
+  ASSERT_EQ(fast_model->substeps, (file.substeps + 1) / 2) << "mass scaling keeps the file's substep";
+  EXPECT_GE(fast_model->stable_dt_estimate * 0.9, fast_model->dt / fast_model->substeps * (1 - 1e-12));
+  const Trajectory ref = record_trajectory(ref_spec, ref_model, kDuration, kLesion);
+  const Trajectory fast = record_trajectory(fast_spec, fast_model, kDuration, kLesion);
+  ASSERT_FALSE(ref.faulted) << ref.fault;
+  ASSERT_FALSE(fast.faulted) << fast.fault;
+  const TrajectoryError e = compare_trajectories(fast, ref);
+  ASSERT_GT(e.force_peak, 0.5) << "the needle should press the wall within the window";
+  EXPECT_LE(e.force_rms, 0.10 * e.force_peak);
+  EXPECT_EQ(e.puncture_mismatch, 0);
+  EXPECT_LE(e.puncture_depth, 1e-3);
+  EXPECT_LE(e.prostate_rms, 0.5e-3);
+  EXPECT_LE(e.target, 0.5e-3);
+  EXPECT_LE(e.volume, 1e-9);
+}
+
+}  // namespace
+}  // namespace ps
