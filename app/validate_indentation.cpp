@@ -111,15 +111,23 @@ FemField load_fem(const std::string& path) {
   return f;
 }
 
-// RMS and max of |u - u_fem| over the free particles, relative to the FEM's largest displacement
+// RMS and max of |u - u_fem| over the free particles, relative to the FEM's largest displacement.
+// The FEM solved the quarter x, y >= 0 (symmetry planes x = 0, y = 0); the simulation runs the
+// whole block (a particle model's neighbourhoods are not symmetric about a cut plane: measured,
+// the quarter model hides most of the strain model's error), so a particle at (x, y) reads the
+// FEM at (|x|, |y|) with ux, uy mirrored.
 void field_error(const Model& m, const State& s, const FemField& fem, IndentationAnswer& a) {
   double sum = 0.0, mx = 0.0;
   int count = 0;
   for (int p = 0; p < m.particle_count(); ++p) {
     if (m.locked_axes[p] & 4) continue;  // base and punch: prescribed
-    const auto it = fem.u.find(key_of(m.rest_pos[p]));
+    const Vec3 rp = m.rest_pos[p];
+    const auto it = fem.u.find(key_of(Vec3(std::abs(rp.x()), std::abs(rp.y()), rp.z())));
     if (it == fem.u.end()) throw std::runtime_error("particle at a point the FEM field does not have (spacing must be a multiple of 5 mm)");
-    const double e = (s.x[p] - m.rest_pos[p] - it->second).norm();
+    Vec3 uf = it->second;
+    if (rp.x() < 0) uf.x() = -uf.x();
+    if (rp.y() < 0) uf.y() = -uf.y();
+    const double e = (s.x[p] - m.rest_pos[p] - uf).norm();
     sum += e * e;
     mx = std::max(mx, e);
     ++count;
@@ -187,7 +195,7 @@ IndentationAnswer run_indentation(const std::string& src, const std::string& nam
       double fz = 0.0;
       for (int p = 0; p < m.particle_count(); ++p)
         if (sim.state().contact[p] & 4) fz += f[p].z();
-      return 4.0 * fz;  // quarter -> full block: every element of the quarter stands for four
+      return fz;
     };
     ind->move_to(kDepth1, 0.0);
     settle(sim, spec, a.substeps);
@@ -242,15 +250,23 @@ std::vector<ValidationCase> indentation_validation_cases() {
                        rows.push_back({"sphere_indentation", "field_rms_rel" + h, at[i].field_rms, 0.0, "-", kRmsTol});
                        rows.push_back({"sphere_indentation", "field_max_rel" + h, at[i].field_max, kNaN, "-", kNaN});
                        // force against the FEM of the same block (10 %), and Hertz's half-space law:
-                       // exponent 1.5 between the two depths, magnitude reported
+                       // exponent 1.5 between the two depths, magnitude reported. A force is only
+                       // held to a tolerance where the Hertz contact radius sqrt(R d) spans at least
+                       // one spacing (at 10 mm the 1.5 mm contact, 7.7 mm across, is one particle):
+                       // otherwise the row is reported without a reference.
+                       const double h_m = g_spacings[i] * 1e-3;
+                       auto resolved = [&](double d) { return std::sqrt(kSphereR * d) >= h_m; };
                        for (const auto& [d, f] : fem.force) {
                          const double sim_f = d < 0.5 * (kDepth1 + kDepth2) ? at[i].force1 : at[i].force2;
                          const std::string dm = "@d" + std::to_string(d * 1e3).substr(0, 3) + "mm";
-                         rows.push_back({"sphere_indentation", "force_N" + dm + h, sim_f, f, "N", 0.1 * f});
+                         rows.push_back({"sphere_indentation", "force_N" + dm + h, sim_f, resolved(d) ? f : kNaN, "N",
+                                         resolved(d) ? 0.1 * f : kNaN});
                          rows.push_back({"sphere_indentation", "force_over_hertz" + dm + h, sim_f / hertz(d), kNaN, "-", kNaN});
                        }
+                       const bool both = resolved(kDepth1) && resolved(kDepth2);
                        rows.push_back({"sphere_indentation", "force_exponent" + h,
-                                       std::log(at[i].force2 / at[i].force1) / std::log(kDepth2 / kDepth1), 1.5, "-", 0.15});
+                                       std::log(at[i].force2 / at[i].force1) / std::log(kDepth2 / kDepth1), both ? 1.5 : kNaN,
+                                       "-", both ? 0.15 : kNaN});
                      }
                      if (at.size() > 1)
                        rows.push_back({"sphere_indentation", "field_rms_rel.change", at.back().field_rms - at[0].field_rms, -1.0, "-", 1.0});
