@@ -10,6 +10,7 @@
 
 #include "app/commands.h"
 #include "app/progress.h"
+#include "app/validate_indentation.h"
 #include "app/validate_probe.h"
 #include "app/validation.h"
 #include "engine/util/atomic_file.h"
@@ -25,6 +26,8 @@ struct ValidateArgs {
   std::string root;   // repository root (config/validation inside)
   std::string data;   // ../shared/data
   std::string out = "out/validate";  // per-particle files of the cases
+  std::string model;  // indentation cases: run this tissue model instead of the scenario's
+  std::vector<double> spacings;  // indentation cases: particle spacings [mm]
 };
 
 std::string find_root(const std::string& given) {
@@ -48,11 +51,20 @@ void add_validate_command(CLI::App& app, Runner& run) {
   sub->add_option("--data", args->data, "reference data folder (default: ROOT/../shared/data)");
   sub->add_option("--out", args->out, "folder for per-particle files (probe/filling cases: <case>_displacement.csv)")
       ->capture_default_str();
+  sub->add_option("--model", args->model, "punch_halfspace, sphere_indentation: run this tissue model (paper, strain, tet) instead of the scenario's")
+      ->check(CLI::IsMember({"paper", "strain", "tet"}));
+  sub->add_option("--spacings-mm", args->spacings, "punch_halfspace, sphere_indentation: particle spacings to run, multiples of 5 (default 10 5)")
+      ->check(CLI::PositiveNumber);
   sub->callback([args, &run] {
     run = [args]() -> int {
       const std::string root = find_root(args->root);
       const std::string data = args->data.empty() ? root + "/../shared/data" : args->data;
       set_displacement_output_dir(args->out);
+      set_indentation_model(args->model);
+      for (double h : args->spacings)
+        if (std::abs(h / 5.0 - std::round(h / 5.0)) > 1e-9)
+          throw InputError("", 0, "validate --spacings-mm", "spacing " + std::to_string(h) + " mm is not a multiple of 5 mm (the FEM field's grid)");
+      set_indentation_spacings(args->spacings);
       std::vector<const ValidationCase*> chosen;
       for (const std::string& name : args->cases) {
         const ValidationCase* found = nullptr;

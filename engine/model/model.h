@@ -136,6 +136,23 @@ struct StrainClusters {
   int count() const { return static_cast<int>(centre.size()); }
 };
 
+// Tetrahedral elements of the v2 tissue model (material `model: tet`, docs/model.md "Tet model"):
+// a Delaunay tetrahedralisation of the particles, built once at compile time by
+// build_tet_elements (engine/model/tet_elements.cpp); the force is engine/step/tet_elastic.cpp.
+// Structure of arrays, rest data precomputed: the step only reads these.
+struct TetElements {
+  std::vector<int> v;              // [4 nt] particle indices, positively oriented at rest
+  std::vector<double> g;           // [9 nt] rows g1, g2, g3 of Dm^-1 (Dm = [x1-x0, x2-x0, x3-x0] at
+                                   // rest): F = sum_i (x_i - x_0) g_i^T [1/m]
+  std::vector<double> vol0;        // [nt] rest volume V0 [m^3]
+  std::vector<double> mu;          // [nt] shear modulus mu of the element [Pa]
+  std::vector<int> nodes;          // particles touched by some element, ascending
+  std::vector<double> node_inv_vol0;  // [nodes] 1 / (sum of V0/4 over the node's elements) [1/m^3]
+  std::vector<double> node_kappa;  // [nodes] volumetric modulus lambda + mu of the node's particle [Pa]
+  std::vector<int> node_slot;      // [n particles] index into nodes, -1 when untouched
+  int count() const { return static_cast<int>(vol0.size()); }
+};
+
 // Active fibre pair: contraction force along the current pair direction.
 struct FibrePair { int a, b; int component; };
 
@@ -178,6 +195,8 @@ struct Model {
   std::vector<int> triplet_count;  // [n] valid triplets m_p (statistics, check command)
   std::vector<uint8_t> shape_memory; // [n] 1 if the particle carries a shape-memory force
   StrainClusters strain;           // strain-memory clusters (empty: no `model: strain` material)
+  TetElements tets;                // tet-model elements (empty: no `model: tet` material)
+  bool any_shape_memory = true;    // some particle has k_e > 0 (else the stage is left out)
 
   // named particle tags (scenario tags: and prostate_zones:, e.g. "lesion", "base", "peripheral"):
   // bit t of particle_tags[p] is set when particle p carries tag_names[t]

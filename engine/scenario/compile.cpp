@@ -10,6 +10,7 @@
 #include "engine/model/discrete_coordinates.h"
 #include "engine/model/material.h"
 #include "engine/model/strain_clusters.h"
+#include "engine/model/tet_elements.h"
 #include "engine/scenario/particle_set.h"
 #include "engine/scenario/shape_mesh.h"
 #include "engine/scenario/size_estimate.h"
@@ -94,6 +95,7 @@ double estimate_stable_dt(const Model& m) {
     for (int p = 0; p < n; ++p) { s.x[p] = m.rest_pos[p] + eps * v[p]; s.f[p].setZero(); }
     add_shape_memory_forces(m, s);
     if (m.strain.count() > 0) add_strain_memory_forces(m, s, 50);  // R converged at each probe
+    if (m.tets.count() > 0) add_tet_elastic_forces(m, s);
     double wn = 0.0;
     for (int p = 0; p < n; ++p) {
       for (int a = 0; a < 3; ++a) w[p][a] = free_axis(p, a) ? -s.f[p][a] * m.inv_mass[p] / eps : 0.0;
@@ -216,6 +218,8 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   m.damping.assign(n, 0.0);
   std::vector<StrainParticle> strain(n);  // strain-model material per particle (mu = 0: none)
   bool any_strain = false;
+  std::vector<TetParticle> tet(n);  // tet-model material per particle (mu = 0: none)
+  bool any_tet = false;
   for (size_t ci = 0; ci < spec.components.size(); ++ci) {
     const ComponentSpec& cs = spec.components[ci];
     const MaterialSpec& mat = find_material(spec, cs.material);
@@ -234,6 +238,17 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
       throw CompileError("component '" + cs.name + "': surface encloses no positive volume (inverted or open)");
     const double pm = mat.density * volume / comp.particle_count;
     StrainParticle sp;
+    TetParticle tp;
+    if (mat.tet_model) {
+      if (!cs.volumetric)
+        throw InputError(spec.file, mat.loc.line, "materials." + mat.name + ".model",
+                         "model: tet needs volumetric components, '" + cs.name + "' is fill: surface");
+      const double nu = mat.poisson ? *mat.poisson : mat.incompressible ? kStrainPoissonIncompressible : kStrainPoissonDefault;
+      const StrainModuli sm = strain_moduli(*mat.young, nu);
+      tp.mu = sm.mu;
+      tp.lambda = sm.lambda;
+      any_tet = true;
+    }
     if (mat.strain_model) {
       if (!cs.volumetric)
         throw InputError(spec.file, mat.loc.line, "materials." + mat.name + ".model",
@@ -251,9 +266,10 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
       any_strain = true;
     }
     const double ke = mat.k_e               ? *mat.k_e
+                      : mat.tet_model       ? 0.0  // the elements carry the whole stiffness
                       : mat.strain_model    ? strain_shape_memory_stiffness(sp.mu, cs.spacing)
                                             : shape_memory_stiffness(*mat.young, cs.spacing);
-    if (!mat.k_e && !mat.strain_model && comp.kind != ComponentKind::Rigid && (cs.spacing < kCalibratedSpacingMin || cs.spacing > kCalibratedSpacingMax))
+    if (!mat.k_e && !mat.strain_model && !mat.tet_model && comp.kind != ComponentKind::Rigid && (cs.spacing < kCalibratedSpacingMin || cs.spacing > kCalibratedSpacingMax))
       warnings.push_back("component '" + cs.name + "': spacing " + std::to_string(cs.spacing * 1e3) +
                          " mm is outside the 4-10 mm range where the E -> k_e mapping was calibrated");
     for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p) {
@@ -263,6 +279,7 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
       m.k_f[p] = mat.k_f;
       m.damping[p] = mat.damping;
       strain[p] = sp;
+      tet[p] = tp;
     }
   }
   for (size_t oi = 0; oi < spec.overrides.size(); ++oi) {
@@ -273,7 +290,12 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
     for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p) {
       if (!o.region.contains(m.rest_pos[p])) continue;
       ++hits;
-      if (o.young && strain[p].mu > 0.0) {
+      if (o.young && tet[p].mu > 0.0) {
+        const double nu = tet[p].lambda / (2.0 * (tet[p].lambda + tet[p].mu));
+        const StrainModuli sm = strain_moduli(*o.young, nu);
+        tet[p].mu = sm.mu;
+        tet[p].lambda = sm.lambda;
+      } else if (o.young && strain[p].mu > 0.0) {
         // strain model: the same local Poisson ratio, the new modulus
         const double nu = strain[p].lambda / (2.0 * (strain[p].lambda + strain[p].mu));
         const StrainModuli sm = strain_moduli(*o.young, nu);
@@ -439,6 +461,27 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
 
   if (any_strain)  // after the surfaces: the clusters' consistency condition uses them
     for (auto& w : build_strain_clusters(m, strain)) warnings.push_back(w);
+  if (any_tet) {  // after the surfaces: elements outside a component's surface are dropped
+    std::vector<std::vector<int>> excluded(m.components.size());
+    for (size_t ci = 0; ci < spec.components.size(); ++ci)
+      for (const std::string& other : spec.components[ci].exclude_inside) {
+        const int oc = m.find_component(other);
+        if (oc >= 0 && m.components[oc].surface >= 0) excluded[ci].push_back(m.components[oc].surface);
+      }
+    std::vector<TetLink> tet_links;
+    for (const LinkSpec& l : spec.links) {
+      const int a = m.find_component(l.a), b = m.find_component(l.b);
+      if (a >= 0 && b >= 0 && tet[m.components[a].first_particle].mu > 0.0 && tet[m.components[b].first_particle].mu > 0.0)
+        tet_links.push_back(TetLink{a, b, l.distance});
+    }
+    for (auto& w : build_tet_elements(m, tet, excluded, tet_links)) warnings.push_back(w);
+    // a particle no element reaches keeps the lattice shape-matching stiffness mu h of the
+    // paper's term, so it stays attached to its neighbours
+    for (int p = 0; p < n; ++p)
+      if (tet[p].mu > 0.0 && m.tets.node_slot[p] < 0 && !m.k_e[p]) m.k_e[p] = tet[p].mu * m.components[m.component_of[p]].spacing;
+  }
+  m.any_shape_memory = false;
+  for (int p = 0; p < n; ++p) m.any_shape_memory |= (m.shape_memory[p] && m.k_e[p] > 0.0);
 
   // active fibres: neighbour pairs whose rest direction is within 30 degrees of the fibre
   for (size_t ci = 0; ci < m.components.size(); ++ci) {

@@ -107,10 +107,11 @@ MaterialSpec parse_material(const YamlReader& r, const std::string& name, const 
   if (v["model"]) {
     const std::string model = r.string(v["model"], k + ".model");
     if (model == "strain") m.strain_model = true;
-    else if (model != "paper") r.fail(v["model"], k + ".model", "model must be paper or strain");
+    else if (model == "tet") m.tet_model = true;
+    else if (model != "paper") r.fail(v["model"], k + ".model", "model must be paper, strain or tet");
   }
   if (v["poisson"]) {
-    if (!m.strain_model) r.fail(v["poisson"], k + ".poisson", "poisson only applies to model: strain");
+    if (!m.strain_model && !m.tet_model) r.fail(v["poisson"], k + ".poisson", "poisson only applies to model: strain or tet");
     m.poisson = r.non_negative(v["poisson"], k + ".poisson");
     if (!(*m.poisson < 0.5)) r.fail(v["poisson"], k + ".poisson", "must be in [0, 0.5)");
   }
@@ -118,6 +119,7 @@ MaterialSpec parse_material(const YamlReader& r, const std::string& name, const 
     if (!m.strain_model) r.fail(v["k_s_n_m"], k + ".k_s_n_m", "k_s_n_m only applies to model: strain");
     m.k_s = r.ranged(v["k_s_n_m"], k + ".k_s_n_m", 1e-6, kMaxStiffnessNm, "N/m");
   }
+  if (m.tet_model && !m.young) r.fail(v, k, "model: tet needs young_kpa");
   if (m.strain_model && !m.young && !m.k_s)
     r.fail(v, k, "model: strain needs young_kpa or k_s_n_m");
   return m;

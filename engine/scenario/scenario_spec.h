@@ -38,6 +38,9 @@ struct MaterialSpec {
   // model: paper (shape memory only, k_e = kappa(h) E h) | strain (shape memory + strain memory,
   // docs/model.md); poisson and k_s only for strain
   bool strain_model = false;
+  // model: tet (v2: elements over a Delaunay tetrahedralisation of the particles, docs/model.md
+  // "Tet model"); poisson applies to it too
+  bool tet_model = false;
   std::optional<double> poisson;   // local Poisson ratio of the strain term [-], in [0, 0.5)
   std::optional<double> k_s;       // raw strain stiffness: shear modulus x spacing [N/m]
   SourceLoc loc;

@@ -51,6 +51,8 @@ struct State {
                                         // (kTripletScratchFields x 4 x Model::most_chunks)
   std::vector<Quat> strain_rot;         // [strain clusters] rotation of the polar decomposition of
                                         // the cluster's F at the last substep (warm start)
+  std::vector<double> tet_node_vol;     // [Model::tets.nodes] scratch: current volume share of each
+                                        // tet node, then its pressure kappa (J_n - 1) [m^3] / [Pa]
   StepFault fault;
   int64_t clamp_count = 0;         // times a safety clamp acted
 };

@@ -10,6 +10,7 @@ const char* stage_name(Stage s) {
     case Stage::ExternalForces: return "external_forces";
     case Stage::ShapeMemory: return "shape_memory";
     case Stage::StrainMemory: return "strain_memory";
+    case Stage::TetElastic: return "tet_elastic";
     case Stage::ActiveFibres: return "active_fibres";
     case Stage::ToolBoundary: return "tool_boundary";
     case Stage::ToolForces: return "tool_forces";
@@ -47,8 +48,9 @@ void Simulation::build_pipeline() {
   if (!m.imposed.empty()) pipeline_.push_back(Stage::ImposedDisplacement);
   if (tools) pipeline_.push_back(Stage::ToolBoundary);
   pipeline_.push_back(Stage::ExternalForces);
-  pipeline_.push_back(Stage::ShapeMemory);
+  if (m.any_shape_memory) pipeline_.push_back(Stage::ShapeMemory);
   if (m.strain.count() > 0) pipeline_.push_back(Stage::StrainMemory);
+  if (m.tets.count() > 0) pipeline_.push_back(Stage::TetElastic);
   if (!m.fibre_pairs.empty()) pipeline_.push_back(Stage::ActiveFibres);
   if (tools) pipeline_.push_back(Stage::ToolForces);
   if (rigid) pipeline_.push_back(Stage::RigidForces);
@@ -75,6 +77,7 @@ bool Simulation::step(double dt) {
       case Stage::ExternalForces: clear_and_add_external_forces(m, s, s.time); break;
       case Stage::ShapeMemory: add_shape_memory_forces(m, s); break;
       case Stage::StrainMemory: add_strain_memory_forces(m, s); break;
+      case Stage::TetElastic: add_tet_elastic_forces(m, s); break;
       case Stage::ActiveFibres: add_active_forces(m, s); break;
       case Stage::ToolForces: for (auto& t : tools_) t->forces(m, s, dt); break;
       case Stage::RigidForces: gather_rigid_forces(m, s); break;

@@ -33,7 +33,7 @@ class Tool {
 };
 
 enum class Stage : uint8_t {
-  ImposedDisplacement, ExternalForces, ShapeMemory, StrainMemory, ActiveFibres, ToolBoundary, ToolForces,
+  ImposedDisplacement, ExternalForces, ShapeMemory, StrainMemory, TetElastic, ActiveFibres, ToolBoundary, ToolForces,
   RigidForces, Integrate, RigidIntegrate, LocalConstraints, ToolConstraints, Volume,
   AdjustVelocity, Check, ToolAfter
 };

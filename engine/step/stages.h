@@ -19,6 +19,11 @@ void add_strain_memory_forces(const Model& m, State& s, int polar_iterations = 0
 // strain_memory.cpp: the energy sum_c E_c whose negative gradient that force is [J] (tests,
 // diagnostics; not used in the step), with each cluster's rotation converged from s.strain_rot
 double strain_memory_energy(const Model& m, const State& s);
+// tet_elastic.cpp: elastic force of the tet model's elements (Model::tets, docs/model.md "Tet
+// model"): per-element isochoric neo-Hookean shear, per-node averaged volumetric pressure
+void add_tet_elastic_forces(const Model& m, State& s);
+// tet_elastic.cpp: the energy whose negative gradient that force is [J] (tests, diagnostics)
+double tet_elastic_energy(const Model& m, const State& s);
 // active.cpp: fibre contraction of active components scaled by State::activation
 void add_active_forces(const Model& m, State& s);
 // rigid.cpp: moves forces of attached elastic particles onto their rigid bodies
