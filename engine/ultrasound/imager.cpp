@@ -26,6 +26,7 @@ constexpr double kLatticePixels = 1.5;
 // transverse plane is often z = const) cuts the lattice along its axes (a visible square grid).
 constexpr float kRot[9] = {0.8660254f, -0.3535534f, 0.3535534f, 0.0f, 0.7071068f, 0.7071068f, -0.5f, -0.6123724f, 0.6123724f};
 constexpr int kBeams = 192, kSamples = 256;  // propagation grid
+constexpr int kTexStep = 4;               // heterogeneity texture evaluated every 4 pixels
 
 // normalised Gaussian taps of standard deviation sigma [px]
 std::vector<float> gaussian_taps(double sigma) {
@@ -37,30 +38,39 @@ std::vector<float> gaussian_taps(double sigma) {
   return k;
 }
 
-// separable convolution, zero outside the buffer: `in` -> `out` along x (dx = 1) or y (dx = w)
-void convolve(const float* in, float* out, int w, int h, const std::vector<float>& k, bool along_x) {
+// separable convolution, zero outside the buffer: `in` -> `out` along x or y. Loops run over the
+// pixels for one tap at a time (contiguous, vectorisable); `pad` is scratch of w + taps floats.
+void convolve(const float* in, float* out, int w, int h, const std::vector<float>& k, bool along_x, float* pad) {
   const int r = static_cast<int>(k.size() / 2);
   if (along_x) {
+    for (int i = 0; i < r; ++i) pad[i] = pad[w + r + i] = 0.0f;
     for (int j = 0; j < h; ++j) {
-      const float* a = in + static_cast<size_t>(j) * w;
+      std::memcpy(pad + r, in + static_cast<size_t>(j) * w, sizeof(float) * w);
       float* o = out + static_cast<size_t>(j) * w;
-      for (int i = 0; i < w; ++i) {
-        const int lo = std::max(-r, -i), hi = std::min(r, w - 1 - i);
-        float acc = 0.0f;
-        for (int t = lo; t <= hi; ++t) acc += k[t + r] * a[i + t];
-        o[i] = acc;
+      const float k0 = k[0];
+      for (int i = 0; i < w; ++i) o[i] = k0 * pad[i];
+      for (int t = 1; t <= 2 * r; ++t) {
+        const float kt = k[t];
+        const float* a = pad + t;
+        for (int i = 0; i < w; ++i) o[i] += kt * a[i];
       }
     }
   } else {
-    std::fill(out, out + static_cast<size_t>(w) * h, 0.0f);
     for (int j = 0; j < h; ++j) {
       float* o = out + static_cast<size_t>(j) * w;
       const int lo = std::max(-r, -j), hi = std::min(r, h - 1 - j);
+      bool first = true;
       for (int t = lo; t <= hi; ++t) {
         const float kt = k[t + r];
         const float* a = in + static_cast<size_t>(j + t) * w;
-        for (int i = 0; i < w; ++i) o[i] += kt * a[i];
+        if (first) {
+          for (int i = 0; i < w; ++i) o[i] = kt * a[i];
+          first = false;
+        } else {
+          for (int i = 0; i < w; ++i) o[i] += kt * a[i];
+        }
       }
+      if (first) std::fill(o, o + w, 0.0f);
     }
   }
 }
@@ -170,6 +180,7 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
   const double sig_lat = std::max(3.5 * lambda / 2.355 / px_, 2.0);
   kax_ = gaussian_taps(sig_ax);
   klat_ = gaussian_taps(sig_lat);
+  pad_.assign(W_ + klat_.size(), 0.0f);
   lattice_ = static_cast<float>(kLatticePixels * px_);
 
   // displacement grid over the window (plus one node of margin)
@@ -180,6 +191,9 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
   gy_ = static_cast<int>(std::ceil((H_ - 1) * px_ / g_)) + 3;
   const int nc = static_cast<int>(an_.components.size());
   field_.assign(static_cast<size_t>(nc + 1) * gx_ * gy_ * 4, 0.0f);
+  tx_ = (W_ - 1) / kTexStep + 2;
+  ty_ = (H_ - 1) / kTexStep + 2;
+  tex_.assign(static_cast<size_t>(tx_) * ty_, 0.5f);
   rank_comp_.assign(32, 0);
   for (int c = 0; c < nc; ++c) rank_comp_[an_.components[c].priority] = c;
   rest_.resize(3 * an_.rest.size());
@@ -204,10 +218,11 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
                     z = static_cast<float>(q * (i * kRot[6] + j * kRot[7]));
         speckle_noise(x + 1000.3f, y + 2000.7f, z + 3000.1f, re[j * n + i], im[j * n + i]);
       }
-    convolve(re.data(), tr.data(), n, n, klat_, true);
-    convolve(im.data(), ti.data(), n, n, klat_, true);
-    convolve(tr.data(), re.data(), n, n, kax_, false);
-    convolve(ti.data(), im.data(), n, n, kax_, false);
+    std::vector<float> pad(n + klat_.size());
+    convolve(re.data(), tr.data(), n, n, klat_, true, pad.data());
+    convolve(im.data(), ti.data(), n, n, klat_, true, pad.data());
+    convolve(tr.data(), re.data(), n, n, kax_, false, pad.data());
+    convolve(ti.data(), im.data(), n, n, kax_, false, pad.data());
     double sum = 0.0;
     int cnt = 0;
     for (int j = 16; j < n - 16; ++j)
@@ -449,7 +464,25 @@ void PlaneImager::scatter(const PlaneFrame& f) {
   const float vo[3] = {float(vol.origin.x()), float(vol.origin.y()), float(vol.origin.z())};
   const float pxf = static_cast<float>(px_);
   const float inv_g = static_cast<float>(1.0 / g_);
+  // texture at the coarse nodes (every kTexStep pixels), at the rest point of the mean field
+  const float* all = &field_[an_.components.size() * nodes * 4];
+  for (int tb = 0; tb < ty_; ++tb)
+    for (int ta = 0; ta < tx_; ++ta) {
+      const double s = pixel_s(ta * kTexStep), t = pixel_t(tb * kTexStep);
+      const Vec3 xw = f.origin + s * f.right + t * f.up;
+      const int a = std::clamp(static_cast<int>((s - gs0_) / g_), 0, gx_ - 2), b = std::clamp(static_cast<int>((gt0_ - t) / g_), 0, gy_ - 2);
+      const float wa = std::clamp(static_cast<float>((s - gs0_) / g_ - a), 0.0f, 1.0f), wb = std::clamp(static_cast<float>((gt0_ - t) / g_ - b), 0.0f, 1.0f);
+      const float* n00 = &all[(static_cast<size_t>(b) * gx_ + a) * 4];
+      const float* n10 = n00 + 4;
+      const float* n01 = n00 + static_cast<size_t>(gx_) * 4;
+      const float* n11 = n01 + 4;
+      float X[3];
+      for (int d = 0; d < 3; ++d)
+        X[d] = static_cast<float>(xw[d]) - ((1 - wa) * (1 - wb) * n00[d] + wa * (1 - wb) * n10[d] + (1 - wa) * wb * n01[d] + wa * wb * n11[d]);
+      tex_[static_cast<size_t>(tb) * tx_ + ta] = texture_noise(X[0] * invT, X[1] * invT, X[2] * invT);
+    }
   for (int j = 0; j < H_; ++j) {
+    const float wtex = static_cast<float>(j % kTexStep) * (1.0f / kTexStep);
     const float t = static_cast<float>(pixel_t(j));
     const float bfy = (static_cast<float>(gt0_) - t) * inv_g;
     const int b = std::clamp(static_cast<int>(bfy), 0, gy_ - 2);
@@ -494,8 +527,14 @@ void PlaneImager::scatter(const PlaneFrame& f) {
           echo = c0 * (1 - w) + c1 * w;
         }
       }
-      if (!wall && ac.hetero > 0.0f)
-        echo *= std::max(0.05f, 1.0f + ac.hetero * (2.0f * texture_noise(X[0] * invT, X[1] * invT, X[2] * invT) - 1.0f));
+      if (!wall && ac.hetero > 0.0f) {
+        // low-frequency texture from the coarse grid (bilinear; it varies over ~3 mm)
+        const int ta = i / kTexStep, tb = j / kTexStep;
+        const float tu = static_cast<float>(i - ta * kTexStep) * (1.0f / kTexStep), tv = wtex;
+        const float* q = &tex_[static_cast<size_t>(tb) * tx_ + ta];
+        const float tval = (q[0] * (1 - tu) + q[1] * tu) * (1 - tv) + (q[tx_] * (1 - tu) + q[tx_ + 1] * tu) * tv;
+        echo *= std::max(0.05f, 1.0f + ac.hetero * (2.0f * tval - 1.0f));
+      }
       if (echo <= 0.0f) continue;
       float re, im;
       speckle_noise((kRot[0] * X[0] + kRot[1] * X[1] + kRot[2] * X[2]) * invL,
@@ -583,10 +622,10 @@ void PlaneImager::coherent_rods(const UltrasoundScene& sc, const PlaneFrame& f) 
 }
 
 void PlaneImager::blur() {
-  convolve(cre_.data(), tmp_re_.data(), W_, H_, klat_, true);
-  convolve(cim_.data(), tmp_im_.data(), W_, H_, klat_, true);
-  convolve(tmp_re_.data(), cre_.data(), W_, H_, kax_, false);
-  convolve(tmp_im_.data(), cim_.data(), W_, H_, kax_, false);
+  convolve(cre_.data(), tmp_re_.data(), W_, H_, klat_, true, pad_.data());
+  convolve(cim_.data(), tmp_im_.data(), W_, H_, klat_, true, pad_.data());
+  convolve(tmp_re_.data(), cre_.data(), W_, H_, kax_, false, pad_.data());
+  convolve(tmp_im_.data(), cim_.data(), W_, H_, kax_, false, pad_.data());
 }
 
 void PlaneImager::transmission(const UltrasoundScene& sc, const PlaneFrame& f) {

@@ -123,7 +123,9 @@ class PlaneImager {
   double g_ = 2e-3, gs0_ = 0, gt0_ = 0;
   std::vector<float> field_;          // [(ncomp+1) * gx*gy * 4]: ux, uy, uz, weight
   std::vector<int> rank_comp_;        // priority rank -> component
-  std::vector<float> cre_, cim_, tmp_re_, tmp_im_;
+  std::vector<float> cre_, cim_, tmp_re_, tmp_im_, pad_;
+  int tx_ = 0, ty_ = 0;               // heterogeneity texture grid (every kTexStep pixels)
+  std::vector<float> tex_;
 };
 
 // Both planes of the biplane probe.

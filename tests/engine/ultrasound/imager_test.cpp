@@ -426,3 +426,26 @@ TEST(UltrasoundDev, DISABLED_Dump) {
   }
 }
 }  // namespace ps
+
+#include "tests/engine/counting_allocator.h"
+namespace ps {
+TEST(UltrasoundImager, RenderDoesNotAllocateOnceWarm) {
+  const auto& S = test::us_biopsy_scene();
+  const std::vector<float> x = test::rest_positions(*S.model);
+  us::UltrasoundScene sc;
+  sc.x = x.data();
+  sc.particle_count = static_cast<int>(x.size() / 3);
+  sc.probe = S.probe;
+  us::Rod rod;
+  rod.a = S.probe.tip_centre + 0.02 * S.probe.anterior;
+  rod.b = rod.a - 0.1 * S.probe.axis;
+  sc.rods.push_back(rod);
+  us::BiplaneImager im(S.anatomy, S.settings);
+  im.render(sc);
+  const long before = test::allocation_count();
+  im.render(sc);
+  sc.probe = test::moved_probe(S.probe, -0.004, 0.1);
+  im.render(sc);
+  EXPECT_EQ(test::allocation_count() - before, 0);
+}
+}  // namespace ps
