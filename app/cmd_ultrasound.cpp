@@ -31,6 +31,7 @@ struct UltrasoundArgs {
   double gain_db = 0.0, depth_mm = 60.0, frequency_mhz = 7.5, dynamic_range_db = 60.0;
   double fov_deg = 140.0, width_mm = 60.0, slice_mm = 1.5;
   double radius_mm = -1.0;         // convex radius: default the probe's radius
+  double transverse_back_mm = 0.0, linear_front_mm = 0.0;
   int size = 512;
   bool no_overlays = false;
   std::string grid = "auto";       // template grid overlay: auto (when needles carry seeds), on, off
@@ -51,6 +52,10 @@ void add_ultrasound_command(CLI::App& app, Runner& run) {
   sub->add_option("--fov-deg", a->fov_deg, "transverse sector angle [deg]")->capture_default_str();
   sub->add_option("--width-mm", a->width_mm, "sagittal linear array length [mm]")->capture_default_str();
   sub->add_option("--radius-mm", a->radius_mm, "transverse convex radius [mm] (default: the probe's radius)");
+  sub->add_option("--transverse-back-mm", a->transverse_back_mm, "transverse plane behind the probe's tip centre [mm]")
+      ->capture_default_str();
+  sub->add_option("--linear-front-mm", a->linear_front_mm, "front end of the linear array behind the tip centre [mm]")
+      ->capture_default_str();
   sub->add_option("--slice-mm", a->slice_mm, "elevation slice thickness, FWHM [mm]")->capture_default_str();
   sub->add_option("--size", a->size, "image width and height [px]")->capture_default_str();
   sub->add_flag("--no-overlays", a->no_overlays, "no biopsy guide line or template grid");
@@ -71,9 +76,7 @@ void add_ultrasound_command(CLI::App& app, Runner& run) {
       }
       if (!std::isfinite(a->time) || a->time < 0) throw InputError("", 0, "--time", "must be a finite time >= 0 s");
       const ScenarioSpec spec = parse_scenario_file(a->scenario);
-      auto model = compile_scenario(spec);
-      auto probe_tool = make_probe_tool(spec, *model);
-      if (!probe_tool) throw InputError(spec.file, 0, "probe", "the scenario has no probe: section to image from");
+      if (!spec.probe) throw InputError(spec.file, 0, "probe", "the scenario has no probe: section to image from");
       us::UltrasoundSettings set = us::settings_for_probe(*spec.probe);
       set.gain_db = a->gain_db;
       set.depth = a->depth_mm * 1e-3;
@@ -83,12 +86,16 @@ void add_ultrasound_command(CLI::App& app, Runner& run) {
       set.linear_width = a->width_mm * 1e-3;
       if (a->radius_mm > 0 || a->radius_mm == 0) set.convex_radius = a->radius_mm * 1e-3;
       set.slice_thickness = a->slice_mm * 1e-3;
+      set.transverse_back = a->transverse_back_mm * 1e-3;
+      set.linear_front = a->linear_front_mm * 1e-3;
       set.width = set.height = a->size;
       set.overlays = !a->no_overlays;
-      us::validate(set);
+      us::validate(set, "command line");
       if (a->grid != "auto" && a->grid != "on" && a->grid != "off")
         throw InputError("", 0, "--grid", "expected auto, on or off, got '" + a->grid + "'");
 
+      auto model = compile_scenario(spec);
+      auto probe_tool = make_probe_tool(spec, *model);
       ProbeTool* probe = probe_tool.get();
       auto needle_tool = make_needle_tool(model, spec.needles);
       NeedleTool* needles = needle_tool.get();

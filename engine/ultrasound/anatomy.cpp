@@ -52,7 +52,7 @@ float prostate_particle_echo(const Model& m, int p) {
   const uint64_t t = m.particle_tags[p];
   for (size_t k = 0; k < m.tag_names.size(); ++k) {
     const std::string n = lower(m.tag_names[k]);
-    if ((t >> k & 1u) && (n.rfind("lesion", 0) == 0 || n.rfind("tumo", 0) == 0)) return 0.35f;
+    if ((t >> k & 1u) && (n.rfind("lesion", 0) == 0 || n.rfind("tumo", 0) == 0)) return 0.3f;
   }
   auto tagged = [&](const char* name) {
     const int k = m.find_tag(name);

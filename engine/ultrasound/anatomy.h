@@ -25,7 +25,7 @@ struct AnatomyOptions {
 // a rigid component or "bone"/"pubic"/"pelvi" -> Bone, "fat" -> Fat, otherwise Soft.
 Tissue tissue_for_component(const Component& c);
 
-// Echogenicity of one prostate particle from its tags: a tag named lesion*/tumo(u)r* -> 0.35
+// Echogenicity of one prostate particle from its tags: a tag named lesion*/tumo(u)r* -> 0.3
 // (hypoechoic: ~60 % of peripheral-zone cancers on TRUS), peripheral 1.0 (the isoechoic
 // reference), transition 0.75, anterior fibromuscular stroma 0.55, untagged 0.9.
 float prostate_particle_echo(const Model& m, int particle);

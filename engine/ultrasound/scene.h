@@ -72,7 +72,7 @@ struct Rod {
   Vec3 a = Vec3::Zero(), b = Vec3::Zero();  // ends [m] (a: needle tip)
   double radius = 0.6e-3;                    // [m]
   float reflect = 25.0f;                     // coherent reflection amplitude (PZ speckle rms = 1) [-]
-  float reverb = 0.55f;                      // comet-tail ratio between successive echoes [-]
+  float reverb = 0.40f;                      // comet-tail ratio between successive echoes [-]
   float shadow = 0.4f;                       // fraction of the beam it stops [-]
 };
 
