@@ -403,30 +403,6 @@ TEST(UltrasoundImager, DisplayConventions) {
 }  // namespace
 }  // namespace ps
 
-#include <fstream>
-namespace ps {
-TEST(UltrasoundDev, DISABLED_Dump) {
-  const auto& S = test::us_biopsy_scene();
-  const std::vector<float> x = test::rest_positions(*S.model);
-  us::UltrasoundScene sc;
-  sc.x = x.data();
-  sc.particle_count = static_cast<int>(x.size() / 3);
-  sc.probe = S.probe;
-  const us::PlaneFrame f = us::PlaneImager(S.anatomy, S.settings, us::PlaneKind::Transverse).frame(S.probe);
-  us::Rod rod;
-  rod.a = f.origin + 0.022 * f.up + 0.005 * f.right + 0.02 * S.probe.axis;
-  rod.b = rod.a - 0.1 * S.probe.axis;
-  sc.rods.push_back(rod);
-  for (auto kind : {us::PlaneKind::Transverse, us::PlaneKind::Sagittal}) {
-    us::PlaneImager im(S.anatomy, S.settings, kind);
-    const us::UsImage& img = im.render(sc);
-    std::ofstream o(std::string("/tmp/us_") + (kind == us::PlaneKind::Transverse ? "tr" : "sg") + ".pgm", std::ios::binary);
-    o << "P5\n" << img.width << " " << img.height << "\n255\n";
-    o.write(reinterpret_cast<const char*>(img.pixels.data()), img.pixels.size());
-  }
-}
-}  // namespace ps
-
 #include "tests/engine/counting_allocator.h"
 namespace ps {
 TEST(UltrasoundImager, RenderDoesNotAllocateOnceWarm) {
