@@ -8,6 +8,7 @@
 #include <string>
 
 #include "engine/ultrasound/speckle.h"
+#include "engine/ultrasound/speckle_row.h"
 
 namespace ps::us {
 
@@ -181,6 +182,8 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
   kax_ = gaussian_taps(sig_ax);
   klat_ = gaussian_taps(sig_lat);
   pad_.assign(W_ + klat_.size(), 0.0f);
+  row_q_.assign(6 * static_cast<size_t>(W_), 0.0f);
+  row_i_.assign(W_, 0);
   lattice_ = static_cast<float>(kLatticePixels * px_);
 
   // displacement grid over the window (plus one node of margin)
@@ -490,6 +493,7 @@ void PlaneImager::scatter(const PlaneFrame& f) {
     const Vec3 row0 = f.origin + pixel_s(0) * f.right + static_cast<double>(t) * f.up;
     const float x0[3] = {float(row0.x()), float(row0.y()), float(row0.z())};
     const float dr[3] = {float(f.right.x()) * pxf, float(f.right.y()) * pxf, float(f.right.z()) * pxf};
+    int na = 0;  // active pixels of this row, compacted for the vectorised noise kernel
     for (int i = 0; i < W_; ++i) {
       const size_t p = static_cast<size_t>(j) * W_ + i;
       cre_[p] = cim_[p] = 0.0f;
@@ -536,13 +540,19 @@ void PlaneImager::scatter(const PlaneFrame& f) {
         echo *= std::max(0.05f, 1.0f + ac.hetero * (2.0f * tval - 1.0f));
       }
       if (echo <= 0.0f) continue;
-      float re, im;
-      speckle_noise((kRot[0] * X[0] + kRot[1] * X[1] + kRot[2] * X[2]) * invL,
-                    (kRot[3] * X[0] + kRot[4] * X[1] + kRot[5] * X[2]) * invL,
-                    (kRot[6] * X[0] + kRot[7] * X[1] + kRot[8] * X[2]) * invL, re, im);
-      cre_[p] = echo * re;
-      cim_[p] = echo * im;
+      row_i_[na] = i;
+      row_q_[na] = (kRot[0] * X[0] + kRot[1] * X[1] + kRot[2] * X[2]) * invL;
+      row_q_[W_ + na] = (kRot[3] * X[0] + kRot[4] * X[1] + kRot[5] * X[2]) * invL;
+      row_q_[2 * W_ + na] = (kRot[6] * X[0] + kRot[7] * X[1] + kRot[8] * X[2]) * invL;
+      row_q_[3 * W_ + na] = echo;
+      ++na;
     }
+    float* re = &row_q_[4 * static_cast<size_t>(W_)];
+    float* im = &row_q_[5 * static_cast<size_t>(W_)];
+    speckle_row(&row_q_[0], &row_q_[W_], &row_q_[2 * static_cast<size_t>(W_)], &row_q_[3 * static_cast<size_t>(W_)], re, im, na);
+    float* cr = &cre_[static_cast<size_t>(j) * W_];
+    float* ci = &cim_[static_cast<size_t>(j) * W_];
+    for (int a = 0; a < na; ++a) cr[row_i_[a]] = re[a], ci[row_i_[a]] = im[a];
   }
 }
 

@@ -126,6 +126,8 @@ class PlaneImager {
   std::vector<float> cre_, cim_, tmp_re_, tmp_im_, pad_;
   int tx_ = 0, ty_ = 0;               // heterogeneity texture grid (every kTexStep pixels)
   std::vector<float> tex_;
+  std::vector<float> row_q_;          // [6 * W] one row's lattice coordinates, amplitude, noise
+  std::vector<int> row_i_;            // [W] their columns
 };
 
 // Both planes of the biplane probe.
