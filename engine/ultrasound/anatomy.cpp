@@ -1,0 +1,175 @@
+#include "engine/ultrasound/anatomy.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+
+#include "engine/util/error.h"
+
+namespace ps::us {
+
+namespace {
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+bool has(const std::string& s, const char* w) { return s.find(w) != std::string::npos; }
+
+// volume enclosed by faces over positions [m^3] (divergence theorem)
+double enclosed_volume(const std::vector<Vec3>& x, const std::vector<std::array<int, 3>>& faces) {
+  double v = 0.0;
+  for (const auto& f : faces) v += x[f[0]].dot(x[f[1]].cross(x[f[2]])) / 6.0;
+  return std::abs(v);
+}
+
+double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double l2 = ab.squaredNorm();
+  const double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * ab)).norm();
+}
+
+}  // namespace
+
+Tissue tissue_for_component(const Component& c) {
+  const std::string n = lower(c.name);
+  if (has(n, "prostate")) return Tissue::Prostate;
+  if (has(n, "bladder")) return Tissue::Bladder;
+  if (has(n, "rect")) return Tissue::Rectum;
+  if (has(n, "gas")) return Tissue::Gas;
+  if (c.kind == ComponentKind::Rigid || has(n, "bone") || has(n, "pubic") || has(n, "pelvi")) return Tissue::Bone;
+  if (has(n, "fat")) return Tissue::Fat;
+  return Tissue::Soft;
+}
+
+float prostate_particle_echo(const Model& m, int p) {
+  if (m.particle_tags.empty()) return 0.9f;
+  const uint64_t t = m.particle_tags[p];
+  for (size_t k = 0; k < m.tag_names.size(); ++k) {
+    const std::string n = lower(m.tag_names[k]);
+    if ((t >> k & 1u) && (n.rfind("lesion", 0) == 0 || n.rfind("tumo", 0) == 0)) return 0.3f;
+  }
+  auto tagged = [&](const char* name) {
+    const int k = m.find_tag(name);
+    return k >= 0 && (t >> k & 1u);
+  };
+  if (tagged("peripheral")) return 1.0f;
+  if (tagged("transition")) return 0.75f;
+  if (tagged("anterior")) return 0.55f;
+  return 0.9f;
+}
+
+UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt) {
+  UltrasoundAnatomy a;
+  a.rest = m.rest_pos;
+  a.component_index.assign(m.components.size(), -1);
+  std::vector<double> volume;
+  for (size_t c = 0; c < m.components.size() && a.components.size() < 32; ++c) {
+    const Component& mc = m.components[c];
+    if (mc.surface < 0 || m.surfaces[mc.surface].faces.empty()) continue;  // nothing to intersect
+    UsComponent u;
+    u.name = mc.name;
+    u.tissue = tissue_for_component(mc);
+    for (const auto& [name, t] : opt.tissue_overrides)
+      if (name == mc.name) u.tissue = t;
+    u.first_particle = mc.first_particle;
+    u.particle_count = mc.particle_count;
+    u.spacing = mc.spacing;
+    u.faces = m.surfaces[mc.surface].faces;
+    volume.push_back(enclosed_volume(m.rest_pos, u.faces));
+    a.component_index[c] = static_cast<int>(a.components.size());
+    if (u.tissue == Tissue::Prostate && a.prostate < 0) a.prostate = static_cast<int>(a.components.size());
+    a.components.push_back(std::move(u));
+  }
+  std::vector<int> order(a.components.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int i, int j) { return volume[i] < volume[j]; });
+  for (size_t r = 0; r < order.size(); ++r) a.components[order[r]].priority = static_cast<int>(r);
+
+  a.urethra = opt.urethra;
+  a.urethra_radius = opt.urethra_radius;
+  if (a.prostate >= 0) {
+    // rest-space echo volume: Gaussian-weighted mean of the particles' echo (sigma = 0.3 h: close to
+    // the nearest particle's value, with soft margins), so a lesion tagged on a few particles becomes
+    // a blob of about their extent with an ill-defined margin, as on TRUS
+    const UsComponent& pc = a.components[a.prostate];
+    Vec3 lo = m.rest_pos[pc.first_particle], hi = lo;
+    for (int p = pc.first_particle; p < pc.first_particle + pc.particle_count; ++p) {
+      lo = lo.cwiseMin(m.rest_pos[p]);
+      hi = hi.cwiseMax(m.rest_pos[p]);
+    }
+    const double margin = 2.0 * pc.spacing;
+    RestVolume& v = a.prostate_echo;
+    v.step = opt.voxel;
+    v.origin = lo - Vec3::Constant(margin);
+    v.nx = static_cast<int>(std::ceil((hi.x() - lo.x() + 2 * margin) / v.step)) + 1;
+    v.ny = static_cast<int>(std::ceil((hi.y() - lo.y() + 2 * margin) / v.step)) + 1;
+    v.nz = static_cast<int>(std::ceil((hi.z() - lo.z() + 2 * margin) / v.step)) + 1;
+    const size_t nv = static_cast<size_t>(v.nx) * v.ny * v.nz;
+    std::vector<double> num(nv, 0.0), den(nv, 0.0);
+    const double sigma = 0.3 * pc.spacing, reach = 3.0 * sigma;
+    for (int p = pc.first_particle; p < pc.first_particle + pc.particle_count; ++p) {
+      const double e = prostate_particle_echo(m, p);
+      const Vec3 q = (m.rest_pos[p] - v.origin) / v.step;
+      const int r = static_cast<int>(std::ceil(reach / v.step));
+      const int ci = static_cast<int>(std::lround(q.x())), cj = static_cast<int>(std::lround(q.y())),
+                ck = static_cast<int>(std::lround(q.z()));
+      for (int k = std::max(0, ck - r); k <= std::min(v.nz - 1, ck + r); ++k)
+        for (int j = std::max(0, cj - r); j <= std::min(v.ny - 1, cj + r); ++j)
+          for (int i = std::max(0, ci - r); i <= std::min(v.nx - 1, ci + r); ++i) {
+            const double d2 = ((Vec3(i, j, k) - q) * v.step).squaredNorm();
+            if (d2 > reach * reach) continue;
+            const double w = std::exp(-0.5 * d2 / (sigma * sigma));
+            const size_t idx = (static_cast<size_t>(k) * v.ny + j) * v.nx + i;
+            num[idx] += w * e;
+            den[idx] += w;
+          }
+    }
+    v.value.assign(nv, 0.9f);
+    for (size_t i = 0; i < nv; ++i)
+      if (den[i] > 1e-9) v.value[i] = static_cast<float>(num[i] / den[i]);
+    // urethra: anechoic lumen with a thin bright (periurethral) rim, in rest space so it deforms
+    if (a.urethra.size() >= 2) {
+      const double r = a.urethra_radius;
+      for (int k = 0; k < v.nz; ++k)
+        for (int j = 0; j < v.ny; ++j)
+          for (int i = 0; i < v.nx; ++i) {
+            const Vec3 p = v.origin + Vec3(i, j, k) * v.step;
+            double d = 1e9;
+            for (size_t s = 0; s + 1 < a.urethra.size(); ++s) d = std::min(d, segment_distance(p, a.urethra[s], a.urethra[s + 1]));
+            float& val = v.value[(static_cast<size_t>(k) * v.ny + j) * v.nx + i];
+            if (d < r) val = 0.08f;
+            else if (d < r + 1.0e-3) val = std::max(val, 1.6f);
+          }
+    }
+  }
+  return a;
+}
+
+std::vector<Vec3> read_urethra_csv(const std::string& path, double unit_scale, const Vec3& translate) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, 0, "urethra", "cannot open the file");
+  std::vector<Vec3> out;
+  std::string line;
+  int ln = 0;
+  while (std::getline(in, line)) {
+    ++ln;
+    if (line.empty() || line[0] == '#') continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream ss(line);
+    double x, y, z;
+    if (!(ss >> x >> y >> z) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
+      if (out.empty() && ln <= 3) continue;  // header row (x_mm,y_mm,z_mm)
+      throw InputError(path, ln, "urethra", "expected three finite numbers x,y,z");
+    }
+    out.push_back(Vec3(x, y, z) * unit_scale + translate);
+  }
+  return out;
+}
+
+}  // namespace ps::us

@@ -1,0 +1,40 @@
+// Builds the static part of the ultrasound input (UltrasoundAnatomy, scene.h) from a compiled
+// Model, once: each component's acoustic class (from its name and kind, overridable), its closed
+// surface, its drawing priority (smaller enclosed rest volume first, so an organ inside the fat
+// block is drawn as the organ), and the prostate's rest-space echogenicity volume from the
+// particles' zone and lesion tags (engine/anatomy/zones.h, scenario `tags:`) and the urethra.
+#pragma once
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/model/model.h"
+#include "engine/ultrasound/scene.h"
+
+namespace ps::us {
+
+struct AnatomyOptions {
+  // component name -> tissue, applied over the name/kind rule of tissue_for_component()
+  std::vector<std::pair<std::string, Tissue>> tissue_overrides;
+  std::vector<Vec3> urethra;       // prostatic urethra centre line in rest space [m] (optional)
+  double urethra_radius = 2.0e-3;  // [m]
+  double voxel = 1.0e-3;           // prostate echo volume voxel [m]
+};
+
+// Name rule: "prostate" -> Prostate, "bladder" -> Bladder, "rect" -> Rectum, "gas" -> Gas,
+// a rigid component or "bone"/"pubic"/"pelvi" -> Bone, "fat" -> Fat, otherwise Soft.
+Tissue tissue_for_component(const Component& c);
+
+// Echogenicity of one prostate particle from its tags: a tag named lesion*/tumo(u)r* -> 0.3
+// (hypoechoic: ~60 % of peripheral-zone cancers on TRUS), peripheral 1.0 (the isoechoic
+// reference), transition 0.75, anterior fibromuscular stroma 0.55, untagged 0.9.
+float prostate_particle_echo(const Model& m, int particle);
+
+UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt = {});
+
+// Reads a urethra centre line (assets/anatomy/urethra.csv: `x_mm,y_mm,z_mm` rows, '#' comments),
+// scaled by unit_scale [m per file unit] and translated by `translate` [m]. InputError
+// (file:line) on a malformed row.
+std::vector<Vec3> read_urethra_csv(const std::string& path, double unit_scale, const Vec3& translate);
+
+}  // namespace ps::us
