@@ -1,7 +1,8 @@
 // `prostatesim insert SCENARIO [--duration S] --out DIR`: runs a scenario with its `needles:`
 // section headless and writes, per needle, force_depth_<name>.csv (one row per tick), and
 // needle_events.csv, seeds.csv (planned vs actual), cores.csv (biopsy notch contents), and the
-// session's training metrics and score, metrics.json (engine/metrics, docs/metrics.md).
+// session's training metrics and score, metrics.json (engine/metrics, docs/metrics.md), with the
+// one-page report.png (app/session_report.h).
 // Parses, compiles and builds the needles first: bad input exits 2 before anything is written.
 #include <spdlog/spdlog.h>
 
@@ -10,6 +11,8 @@
 #include <filesystem>
 
 #include "app/commands.h"
+#include "app/session_report.h"
+#include "engine/io/png_write.h"
 #include "engine/metrics/metrics_json.h"
 #include "engine/metrics/metrics_options.h"
 #include "engine/scenario/compile.h"
@@ -68,6 +71,8 @@ void add_insert_command(CLI::App& app, Runner& run) {
       const Score score = score_session(report);
       const std::string session = !args->session.empty() ? args->session : std::filesystem::path(args->out).lexically_normal().filename().string();
       write_file_atomic(dir + "metrics.json", metrics_json(report, score, {args->trainee, session}));
+      const RgbImage page = render_session_report(*model, sim.state(), needles, rec, report, score);
+      write_png_atomic(dir + "report.png", page.width, page.height, 3, page.pixels.data());
       for (int i = 0; i < needles.count(); ++i) {
         const ForceDepthMetrics m = force_depth_metrics(rec.samples(i), 0.0, 1.0);
         std::printf("%s: peak %.3f N at %.2f mm, final %.3f N at %.2f mm\n", needles.spec(i).name.c_str(), m.peak_force,
@@ -83,7 +88,7 @@ void add_insert_command(CLI::App& app, Runner& run) {
       std::printf("needle-tissue coupling: largest stability bound G h^2 %.3g (budget %.3g), springs softened in %lld substeps\n",
                   cs.bound_max, kCouplingBudget, static_cast<long long>(cs.softened_substeps));
       std::printf("score %.1f / 100; targeting %s\n", score.value, han_scale_text(report.mean_error).c_str());
-      std::printf("wrote %s{force_depth_<needle>.csv,needle_events.csv,seeds.csv,cores.csv,metrics.json}\n", dir.c_str());
+      std::printf("wrote %s{force_depth_<needle>.csv,needle_events.csv,seeds.csv,cores.csv,metrics.json,report.png}\n", dir.c_str());
       if (!ok) {
         spdlog::error("error: simulation stopped: {}", sim.state().fault.describe(*model));
         return kExitFault;

@@ -19,5 +19,6 @@ void add_check_command(CLI::App& app, Runner& run);
 void add_validate_command(CLI::App& app, Runner& run);
 void add_make_anatomy_command(CLI::App& app, Runner& run);
 void add_insert_command(CLI::App& app, Runner& run);        // cmd_insert.cpp (needles)
+void add_report_command(CLI::App& app, Runner& run);        // cmd_report.cpp (class metrics)
 
 }  // namespace ps::app

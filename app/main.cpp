@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   ps::app::add_validate_command(app, run);
   ps::app::add_make_anatomy_command(app, run);
   ps::app::add_insert_command(app, run);
+  ps::app::add_report_command(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -53,7 +53,8 @@ TEST(Insert, WritesForceDepthPerNeedleEventsSeedsAndCores) {
   EXPECT_NE(r.out.find("a puncture tissue"), std::string::npos) << r.out;
   // atomic writes leave no temporary file behind
   for (const auto& e : fs::directory_iterator(out))
-    EXPECT_TRUE(e.path().extension() == ".csv" || e.path().filename() == "metrics.json") << e.path();
+    EXPECT_TRUE(e.path().extension() == ".csv" || e.path().filename() == "metrics.json" || e.path().filename() == "report.png")
+        << e.path();
 }
 
 TEST(Insert, CoresCsvNamesTheClinicalSiteOfEachCore) {
