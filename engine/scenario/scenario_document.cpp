@@ -197,6 +197,20 @@ ValueSpan locate_value(const std::string& text, const std::string& key_path) {
       return s;
     }
     if (!child.IsDefined()) throw InputError("", 0, walked, "no such key");
+    // an alias (*name) shares the anchored node, whose mark points at the anchor: an edit through
+    // it would silently change every user of the anchor, so it is refused
+    for (auto it = cur.begin(); it != cur.end(); ++it) {
+      if (!it->first.IsScalar() || it->first.Scalar() != t.key) continue;
+      size_t p = it->first.Mark().pos;
+      if (p < text.size() && (text[p] == '"' || text[p] == '\'')) p = quoted_end(text, p);
+      while (p < text.size() && text[p] != ':') ++p;
+      ++p;
+      while (p < text.size() && (text[p] == ' ' || text[p] == '\t')) ++p;
+      if (p < text.size() && text[p] == '*')
+        throw InputError("", line_at(text, p), walked,
+                         "the value is an alias (" + text.substr(p, text.find_first_of(",}] \n", p) - p) + "): edit the anchored value");
+      break;
+    }
     cur = child;
     if (t.has_selector) {
       if (!cur.IsSequence()) throw InputError("", 0, walked, "not a list");

@@ -238,3 +238,53 @@ TEST(ScenarioDocument, AnEditThroughTheCommandPathChangesTheSimulation) {
 
 }  // namespace
 }  // namespace ps
+
+namespace ps {
+namespace {
+
+// The shipped scenes, with their comments, block and flow mappings and a YAML anchor shared by the
+// lesion tag and its stiffness override: probe pose, lesion place, material, bladder fill edits.
+TEST(ScenarioDocument, ShippedScenesEditInPlace) {
+  const std::string dir = std::string(PROSTATESIM_SOURCE_DIR) + "/config/";
+  ScenarioDocument b = ScenarioDocument::open(dir + "biopsy.yaml");
+  ASSERT_TRUE(b.valid()) << b.error()->message;
+  const std::string before = b.text();
+  const uint64_t h0 = b.model_hash();
+  ASSERT_TRUE(b.set_number("probe.pose.insertion_mm", 35).ok);
+  ASSERT_TRUE(b.set_number("probe.pose.tilt_deg", 5).ok);           // added to the flow mapping
+  EXPECT_NEAR(b.spec()->probe->pose.tilt, 5.0 * 3.14159265358979 / 180.0, 1e-9);
+  EXPECT_EQ(b.model_hash(), h0) << "the probe is not part of the tissue model";
+  // the lesion's region is an anchor (&lesion) that the stiffness override reuses (*lesion)
+  ASSERT_TRUE(b.set_vec3("tags[lesion].region.ellipsoid.center_mm", Vec3(-9, -7, 2)).ok);
+  EXPECT_NEAR(b.spec()->tags[0].region.center.x(), -9e-3, 1e-12);
+  EXPECT_NEAR(b.spec()->overrides[0].region.center.x(), -9e-3, 1e-12) << "the override follows the anchor";
+  EXPECT_NE(b.model_hash(), h0);
+  const EditResult alias = b.set_vec3("overrides[0].region.ellipsoid.center_mm", Vec3(0, 0, 0));
+  EXPECT_FALSE(alias.ok) << "an edit through the alias *lesion would move the tag too";
+  EXPECT_EQ(alias.issue->field, "overrides[0].region");
+  EXPECT_NE(alias.issue->message.find("alias (*lesion)"), std::string::npos) << alias.issue->message;
+  // everything else as written: same lines apart from the three edited ones
+  auto lines = [](const std::string& s) {
+    std::vector<std::string> v;
+    std::istringstream in(s);
+    for (std::string l; std::getline(in, l);) v.push_back(l);
+    return v;
+  };
+  const auto a = lines(before), c = lines(b.text());
+  ASSERT_EQ(a.size(), c.size());
+  int changed = 0;
+  for (size_t i = 0; i < a.size(); ++i) changed += a[i] != c[i];
+  EXPECT_EQ(changed, 2) << b.text();  // the probe pose line and the lesion line
+
+  ScenarioDocument f = ScenarioDocument::open(dir + "bladder_filling.yaml");
+  ASSERT_TRUE(f.valid()) << f.error()->message;
+  ASSERT_TRUE(f.spec()->filling.has_value());
+  ASSERT_TRUE(f.set_number("filling.max_rate_ml_s", 50).ok);
+  EXPECT_NEAR(f.spec()->filling->max_rate, 50e-6, 1e-12);
+  const EditResult neg = f.set_number("filling.max_rate_ml_s", -5);
+  EXPECT_FALSE(neg.ok);
+  EXPECT_EQ(neg.issue->field, "filling.max_rate_ml_s") << neg.issue->message;
+}
+
+}  // namespace
+}  // namespace ps
