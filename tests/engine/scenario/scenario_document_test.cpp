@@ -132,7 +132,7 @@ TEST(ScenarioDocument, InvalidEditsAreRefusedNamingTheFieldAndChangeNothing) {
     std::string path, value, field, words;
   };
   const std::vector<Case> cases = {
-      {"materials.tissue.young_kpa", "-5", "materials.tissue.young_kpa", "positive"},
+      {"materials.tissue.young_kpa", "-5", "materials.tissue.young_kpa", "-5"},
       {"materials.tissue.damping_1_s", "-1", "materials.tissue.damping_1_s", ""},
       {"needles.instruments[n].target_mm", "[0, 0, 30]", "needles.instruments[0].target_mm", "outside every organ"},
       {"tags[lesion_b].region.sphere.center_mm", "[-4, 0, -12]", "tags[1].region", "overlaps lesion 'lesion_a'"},
