@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   ps::app::add_make_anatomy_command(app, run);
   ps::app::add_insert_command(app, run);
   ps::app::add_ultrasound_command(app, run);
+  ps::app::add_report_command(app, run);
   ps::app::add_stress_command(app, run);
   ps::app::add_bench_command(app, run);
   try {

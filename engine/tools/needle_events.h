@@ -51,6 +51,16 @@ class NeedleEventRing {
     for (size_t i = 0; i < size_; ++i) out.push_back(buf_[(first + i) % buf_.size()]);
     return out;
   }
+  // Calls f(event) for every event pushed after the first `seen` ones that is still in the ring,
+  // oldest first, and returns total(): readers outside the step (metrics) keep up without copying.
+  template <class F>
+  int64_t for_each_since(int64_t seen, F&& f) const {
+    const int64_t oldest = total_ - static_cast<int64_t>(size_);
+    const size_t first = (head_ + buf_.size() - size_) % buf_.size();
+    for (int64_t k = seen > oldest ? seen : oldest; k < total_; ++k)
+      f(buf_[(first + static_cast<size_t>(k - oldest)) % buf_.size()]);
+    return total_;
+  }
   size_t size() const { return size_; }
   int64_t dropped() const { return dropped_; }
   int64_t total() const { return total_; }

@@ -60,6 +60,12 @@ struct NeedleSpec {
   // core sample: components or particle tags that are tumour (empty: those whose name contains
   // "tumo" or "lesion")
   std::vector<std::string> tumour;
+  // training metrics (engine/metrics): the point the trainee aims at, at rest [m], carried by the
+  // tissue while it moves (absent: the deepest point of the script, start + depth x direction),
+  // and for a biopsy the planned 12-core site ("right mid lateral", anatomy::zone_label without
+  // the zone) whose coverage is scored
+  std::optional<Vec3> target;
+  std::string planned_site;
   // where it came from, for errors found later against the compiled model
   std::string file;
   int line = 0;

@@ -13,7 +13,8 @@ NeedleSpec parse_needle(const YamlReader& r, const YAML::Node& v, int index) {
               {"name", "preset", "gauge", "diameter_mm", "length_mm", "node_spacing_mm", "mass_g", "coupling_stiffness_n_mm",
                "coupling_damping_n_s_m", "cutting_radius_mm", "friction_radius_mm",
                "press_stiffness_n_mm", "stick_stiffness_n_mm", "static_ratio", "cut_velocity_mm_s", "max_force_n",
-               "max_speed_m_s", "plan_margin_mm", "start_mm", "direction", "script", "seeds_mm", "gun", "tumour"});
+               "max_speed_m_s", "plan_margin_mm", "start_mm", "direction", "script", "seeds_mm", "gun", "tumour",
+               "target_mm", "planned_site"});
   NeedleSpec s;
   s.file = r.file();
   s.line = YamlReader::line_of(v);
@@ -84,6 +85,8 @@ NeedleSpec parse_needle(const YamlReader& r, const YAML::Node& v, int index) {
     if (!tc.IsSequence()) r.fail(tc, k + ".tumour", "expected a list of component or tag names");
     for (size_t i = 0; i < tc.size(); ++i) s.tumour.push_back(r.string(tc[i], k + ".tumour[" + std::to_string(i) + "]"));
   }
+  if (v["target_mm"]) s.target = r.vec3(v["target_mm"], k + ".target_mm", kMm);
+  if (v["planned_site"]) s.planned_site = r.string(v["planned_site"], k + ".planned_site");
   validate_needle_spec(s);
   return s;
 }

@@ -28,6 +28,8 @@
 //       gun: {fire_s: 2, stroke_mm: 22, duration_ms: 15, settle_ms: 5,
 //             notch_offset_mm: 5, notch_length_mm: 18, notch_radius_mm: 3}
 //       tumour: [lesion]                # components or particle tags counted as tumour in a core
+//       target_mm: [5, 0, -20]          # aimed point (metrics; default: the script's planned end)
+//       planned_site: right mid lateral # planned 12-core biopsy site (metrics: zone coverage)
 #pragma once
 #include "engine/scenario/yaml_reader.h"
 #include "engine/tools/needle_spec.h"

@@ -1,0 +1,222 @@
+#include "app/session_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "app/plot/chart.h"
+
+namespace ps::app {
+
+namespace {
+
+constexpr int kW = 800, kH = 600;
+
+void blit(RgbImage& img, const plot::Canvas& c, int x0, int y0) {
+  for (int y = 0; y < c.height(); ++y)
+    std::copy_n(c.pixels().begin() + static_cast<long>(y) * c.width() * 3, c.width() * 3,
+                img.pixels.begin() + (static_cast<long>(y0 + y) * img.width + x0) * 3);
+}
+
+std::string f(const char* fmt, double a, double b = 0, double c = 0, double d = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c, d);
+  return buf;
+}
+
+// Projection of the scene on axes (a, b) of RAS (0 x, 1 y, 2 z) [mm].
+plot::Chart scene_view(const Model& m, const State& s, const NeedleTool& tool, const SessionReport& r, int a, int b,
+                       const std::string& title, const std::string& xl, const std::string& yl) {
+  plot::Chart c;
+  c.title = title;
+  c.x.label = xl;
+  c.y.label = yl;
+  c.legend = plot::LegendPos::TopRight;
+  auto organ_colour = [](const std::string& n, size_t k) -> plot::Rgb {
+    if (n.find("prostate") != std::string::npos) return {205, 110, 110};
+    if (n.find("bladder") != std::string::npos) return {110, 160, 215};
+    if (n.find("rect") != std::string::npos) return {215, 160, 80};
+    if (n.find("fat") != std::string::npos) return {212, 212, 212};
+    if (n.find("bone") != std::string::npos || n.find("pubic") != std::string::npos) return {160, 110, 170};
+    return plot::palette(static_cast<int>(k) + 3);
+  };
+  const int gland = m.find_component("prostate");
+  for (size_t k = 0; k < m.components.size(); ++k) {
+    const Component& comp = m.components[k];
+    plot::Series p;
+    p.label = comp.name;
+    p.line = false;
+    p.marker = plot::Marker::Circle;
+    p.marker_size = comp.name.find("fat") != std::string::npos ? 2.0 : 3.5;
+    p.color = organ_colour(comp.name, k);
+    for (int i = comp.first_particle; i < comp.first_particle + comp.particle_count; ++i) {
+      p.x.push_back(1e3 * s.x[i][a]);
+      p.y.push_back(1e3 * s.x[i][b]);
+    }
+    c.series.push_back(p);
+  }
+  plot::Series targets, samples, seeds;
+  targets.label = "target (carried by the tissue)";
+  samples.label = "needle sample (tip / notch centre)";
+  seeds.label = "seed";
+  targets.line = samples.line = seeds.line = false;
+  targets.marker = plot::Marker::Cross;
+  samples.marker = plot::Marker::Circle;
+  seeds.marker = plot::Marker::Diamond;
+  targets.marker_size = samples.marker_size = 12.0;
+  seeds.marker_size = 9.0;
+  targets.color = {200, 30, 30};
+  samples.color = {30, 60, 200};
+  seeds.color = {20, 140, 40};
+  for (int i = 0; i < tool.count(); ++i) {
+    const NeedleMetrics& n = r.needles[i];
+    const Vec3 t = n.scored ? n.target_now : n.target_rest;
+    targets.x.push_back(1e3 * t[a]);
+    targets.y.push_back(1e3 * t[b]);
+    plot::Series path;
+    path.color = {30, 60, 200};
+    path.line_width = 1.5;
+    const Vec3 st = tool.spec(i).start;
+    const Vec3 end = n.scored ? n.sample : tool.readout(i).tip;
+    path.x = {1e3 * st[a], 1e3 * end[a]};
+    path.y = {1e3 * st[b], 1e3 * end[b]};
+    c.series.push_back(path);
+    if (n.scored) {
+      samples.x.push_back(1e3 * n.sample[a]);
+      samples.y.push_back(1e3 * n.sample[b]);
+    }
+  }
+  for (const SeedReport& sd : tool.seeds())
+    if (sd.deposited) {
+      seeds.x.push_back(1e3 * sd.current[a]);
+      seeds.y.push_back(1e3 * sd.current[b]);
+    }
+  c.series.push_back(targets);
+  c.series.push_back(samples);
+  if (!seeds.x.empty()) c.series.push_back(seeds);
+  // equal scales: pad the shorter range
+  // framed on the gland, the needles and the targets (the whole scene when there is no gland)
+  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  for (size_t k = 0; k < c.series.size(); ++k) {
+    if (gland >= 0 && k < m.components.size() && static_cast<int>(k) != gland) continue;
+    const plot::Series& se = c.series[k];
+    for (size_t i = 0; i < se.x.size(); ++i) {
+      lo[0] = std::min(lo[0], se.x[i]); hi[0] = std::max(hi[0], se.x[i]);
+      lo[1] = std::min(lo[1], se.y[i]); hi[1] = std::max(hi[1], se.y[i]);
+    }
+  }
+  const double aspect = static_cast<double>(kW) / kH;
+  double wx = hi[0] - lo[0], wy = hi[1] - lo[1];
+  if (wx < wy * aspect) wx = wy * aspect; else wy = wx / aspect;
+  const double cx = 0.5 * (lo[0] + hi[0]), cy = 0.5 * (lo[1] + hi[1]);
+  c.x.min = cx - 0.7 * wx; c.x.max = cx + 0.7 * wx;
+  c.y.min = cy - 0.7 * wy; c.y.max = cy + 0.7 * wy;
+  return c;
+}
+
+}  // namespace
+
+RgbImage render_session_report(const Model& m, const State& s, const NeedleTool& tool, const ForceDepthRecorder& rec,
+                               const SessionReport& r, const Score& score) {
+  // force versus depth
+  plot::Chart fd;
+  fd.title = "Force versus depth (punctures marked)";
+  fd.x.label = "insertion depth [mm]";
+  fd.y.label = "axial force on the needle [N]";
+  fd.legend = plot::LegendPos::TopLeft;
+  plot::Series punct;
+  punct.label = "puncture";
+  punct.line = false;
+  punct.marker = plot::Marker::Triangle;
+  punct.marker_size = 12.0;
+  punct.color = {200, 30, 30};
+  for (int i = 0; i < tool.count(); ++i) {
+    plot::Series l;
+    l.label = tool.spec(i).name;
+    l.color = plot::palette(i);
+    for (const ForceDepthSample& q : rec.samples(i))
+      if (q.contacted) {
+        l.x.push_back(1e3 * q.depth);
+        l.y.push_back(q.axial_force);
+      }
+    fd.series.push_back(l);
+  }
+  for (const NeedleEvent& e : tool.events().snapshot())
+    if (e.kind == NeedleEventKind::Puncture) {
+      punct.x.push_back(1e3 * e.depth);
+      punct.y.push_back(e.force);
+    }
+  if (!punct.x.empty()) fd.series.push_back(punct);
+
+  RgbImage img;
+  img.width = 2 * kW;
+  img.height = 2 * kH;
+  img.pixels.assign(static_cast<size_t>(img.width) * img.height * 3, 255);
+  blit(img, plot::render(fd, kW, kH), 0, 0);
+  blit(img, plot::render(scene_view(m, s, tool, r, 1, 2, "Sagittal view at the end (y-z)", "y, anterior [mm]", "z, superior [mm]"), kW, kH),
+       kW, 0);
+  blit(img, plot::render(scene_view(m, s, tool, r, 0, 2, "Coronal view at the end (x-z)", "x, patient right [mm]", "z, superior [mm]"), kW, kH),
+       kW, kH);
+
+  // the numbers
+  plot::Canvas t(kW, kH);
+  const plot::Rgb ink{20, 20, 20}, dim{90, 90, 90};
+  int y = 20;
+  auto line = [&](const std::string& s, int scale = 2, plot::Rgb c = {20, 20, 20}) {
+    t.text(24, y, s, c, scale);
+    y += plot::Canvas::text_height(scale) + (scale > 2 ? 14 : 8);
+  };
+  line("Session: " + r.scenario + f("   simulated %.2f s", r.duration), 2, dim);
+  line(f("SCORE %.1f / 100", score.value), 4);
+  for (const ScoreTerm& st : score.terms) line(f("  -%.1f  ", st.points) + st.name + ": " + st.detail, 2, st.points > 0 ? ink : dim);
+  y += 6;
+  const std::string scale = han_scale_text(r.mean_error);
+  const size_t cite = scale.find(" (Han");
+  const std::string head = scale.substr(0, cite);
+  const size_t colon = head.find(": ");
+  line("Targeting error " + head.substr(0, colon), 2);
+  if (colon != std::string::npos) line("  " + head.substr(colon + 2), 2);
+  if (cite != std::string::npos) line("  scale:" + scale.substr(cite), 2, dim);
+  line(std::isnan(r.max_error) ? std::string("") : f("max error %.2f mm, procedure time %.2f s, %.0f punctures, %.0f re-insertions", 1e3 * r.max_error,
+                                                     r.procedure_time, r.punctures, r.reinsertions));
+  // the scale bar: robot 1.0 mm ... freehand 9.0 mm, and the trainee
+  const int x0 = 60, x1 = kW - 60, yb = y + 24;
+  auto xs = [&](double mm) { return x0 + (x1 - x0) * std::clamp(mm / 12.0, 0.0, 1.0); };
+  t.line(x0, yb, x1, yb, dim, 2.0);
+  for (int k = 0; k <= 12; k += 2) {
+    t.line(xs(k), yb - 5, xs(k), yb + 5, dim, 1.0);
+    t.text(static_cast<int>(xs(k)) - 4, yb + 10, std::to_string(k), dim, 1);
+  }
+  t.fill_circle(xs(1.0), yb, 7, {40, 150, 60});
+  t.text(static_cast<int>(xs(1.0)) - 20, yb - 28, "robot 1.0", {40, 150, 60}, 2);
+  t.fill_circle(xs(9.0), yb, 7, {200, 40, 40});
+  t.text(static_cast<int>(xs(9.0)) - 40, yb - 28, "freehand 9.0", {200, 40, 40}, 2);
+  if (!std::isnan(r.mean_error)) {
+    t.marker(plot::Marker::Diamond, xs(1e3 * r.mean_error), yb, 16, {30, 60, 200});
+    t.text(static_cast<int>(xs(1e3 * r.mean_error)) - 30, yb + 24, f("you %.1f mm", 1e3 * r.mean_error), {30, 60, 200}, 2);
+  }
+  y = yb + 56;
+  line("needle        error  lateral  depth  peak N  mean N  time s  hits", 2, dim);
+  for (const NeedleMetrics& n : r.needles) {
+    std::string hits;
+    for (const std::string& h : n.structures_hit) hits += (hits.empty() ? "" : ", ") + h;
+    std::string name = n.name.substr(0, 12);
+    name.resize(12, ' ');
+    line(name + (n.scored ? f(" %6.2f  %6.2f  %6.2f", 1e3 * n.error, 1e3 * n.lateral_error, 1e3 * n.depth_error) : std::string("    (not inserted)    ")) +
+         f("  %5.2f  %5.2f  %6.2f  ", n.peak_force, n.mean_force, std::isnan(n.insertion_time) ? 0.0 : n.insertion_time) + hits);
+    if (y > kH - 40) break;
+  }
+  if (!r.cores.empty()) {
+    int hit = 0;
+    for (const CoreMetrics& c : r.cores) hit += c.lesion_hit;
+    line(f("cores %.0f, lesion in %.0f", r.cores.size(), hit) + (std::isnan(r.coverage) ? std::string() : f(", coverage %.0f %%", 100 * r.coverage)));
+  }
+  if (!std::isnan(r.seed_error_mean))
+    line(f("seeds %.0f: error mean %.2f mm, max %.2f mm; outside the gland %.0f", r.seeds.size(), 1e3 * r.seed_error_mean,
+           1e3 * r.seed_error_max, r.seeds_outside_gland));
+  blit(img, t, 0, kH);
+  return img;
+}
+
+}  // namespace ps::app

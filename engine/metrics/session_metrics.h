@@ -1,0 +1,153 @@
+// Training metrics of a needle session (issue 13, docs/metrics.md), fed from the needle tool's
+// read-outs and events after every tick, outside the step. Construction sizes everything;
+// observe() never allocates; finish() builds the report at the end.
+//
+// Per needle:
+//  * error to its target: the target (NeedleSpec::target, default the deepest point of the script)
+//    is a material point carried by the tissue (TrackedPoint). It is compared, at the needle's
+//    decisive moment, with where the needle put its sample:
+//      - biopsy gun: at the core, the centre of the notch
+//        (tip - (notch_offset + notch_length / 2) x direction), default target the planned
+//        notch centre after the stroke;
+//      - otherwise: the tip, at the tick of its deepest planned depth.
+//    error = |sample - target now|, split into lateral (perpendicular to the needle) and depth
+//    (signed along it, > 0: too deep).
+//  * punctures (Puncture events) and re-insertions: a forward stroke that follows a withdrawal of
+//    more than kReinsertStroke along the planned line (a needle pulled back and pushed again);
+//  * peak and mean axial force over the ticks in contact with tissue (tick averages) [N];
+//  * insertion time: first contact to the decisive moment (last seed for a seed needle) [s];
+//  * structures hit: urethra, rectal wall, bladder, bone, from the Contact / Puncture / BoneHit
+//    events on components named so (urethra*, rect*, bladder*, any rigid component = bone), and
+//    for the urethra also the tip coming within MetricsOptions::urethra_radius of the urethra
+//    centre line (carried by the tissue) when one is given. The component the needle enters
+//    first is its route (the rectal wall for a transrectal biopsy), not a hit, unless it is
+//    punctured a second time.
+// Biopsy: each core's 12-core site (core_site), lesion hit (tumour particles in the notch) and
+// lesion length; cores per zone; coverage = planned sites (NeedleSpec::planned_site) with a core
+// whose site label starts with them / planned sites; a needle whose target lies in tumour tissue
+// is a targeted lesion, missed when its core holds no tumour.
+// Brachytherapy: each deposited seed against its planned site carried by the tissue (mean, max
+// error) and seeds whose position is outside the gland surface (winding number < 1/2).
+// Procedure time: first contact of any needle to the last needle's decisive moment [s].
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/metrics/tracked_point.h"
+#include "engine/state/state.h"
+#include "engine/tools/needle.h"
+
+namespace ps {
+
+inline constexpr double kReinsertStroke = 2e-3;  // withdrawal that makes the next push a re-insertion [m]
+
+struct MetricsOptions {
+  std::string gland = "prostate";  // component whose surface is the gland (seeds outside it)
+  std::vector<Vec3> urethra;       // urethra centre line at rest [m] (empty: by component name only)
+  double urethra_radius = 3e-3;    // [m]
+};
+
+struct NeedleMetrics {
+  std::string name;
+  bool scored = false;              // reached its decisive moment in tissue
+  std::string measured_at;          // "core" | "deepest" | "" (never inserted)
+  Vec3 target_rest = Vec3::Zero();  // [m]
+  Vec3 target_now = Vec3::Zero();   // target at the decisive moment [m]
+  Vec3 sample = Vec3::Zero();       // notch centre or tip at that moment [m]
+  double error = NAN, lateral_error = NAN, depth_error = NAN;  // [m]
+  int punctures = 0;
+  int reinsertions = 0;
+  double peak_force = 0.0, mean_force = 0.0;  // [N]
+  double first_contact = NAN;       // [s]
+  double insertion_time = NAN;      // [s]
+  std::vector<std::string> structures_hit;   // "urethra", "rectal wall", "bladder", "bone"
+  bool target_in_lesion = false;
+};
+
+struct CoreMetrics {
+  std::string needle, site, planned_site;
+  bool taken = false, lesion_hit = false;
+  double lesion_length = 0.0, notch_length = 0.0;  // [m]
+  double time = 0.0;                // [s]
+};
+
+struct SeedMetrics {
+  std::string needle;
+  int index = -1;
+  bool deposited = false, outside_gland = false;
+  double error = NAN;               // |seed - planned site carried by the tissue| [m]
+};
+
+struct SessionReport {
+  std::string scenario;
+  double duration = 0.0;            // simulated [s]
+  double procedure_time = 0.0;      // [s]
+  std::vector<NeedleMetrics> needles;
+  // biopsy
+  std::vector<CoreMetrics> cores;
+  std::vector<std::pair<std::string, int>> cores_per_zone;  // site label -> cores
+  std::vector<std::string> planned_sites;
+  double coverage = NAN;            // of the planned sites, NAN when none planned
+  int lesions_targeted = 0, lesions_missed = 0;
+  // brachytherapy
+  std::vector<SeedMetrics> seeds;
+  double seed_error_mean = NAN, seed_error_max = NAN;  // [m]
+  int seeds_outside_gland = 0;
+  bool gland_known = false;
+  // targeting summary over the scored needles
+  double mean_error = NAN, max_error = NAN;  // [m]
+  int structures_hit = 0, reinsertions = 0, punctures = 0;
+  bool faulted = false;
+};
+
+class SessionMetrics {
+ public:
+  // Throws InputError when a target lies outside the scene (naming the needle's target_mm).
+  SessionMetrics(const Model& m, const NeedleTool& tool, const MetricsOptions& opt = {});
+  // After each tick (outside the step): no allocation.
+  void observe(const NeedleTool& tool, const State& s);
+  SessionReport finish(const NeedleTool& tool, const State& s, bool faulted = false) const;
+
+ private:
+  struct Track {
+    TrackedPoint target;
+    double sample_back = 0.0;       // sample point behind the tip [m] (notch centre for a gun)
+    bool gun = false;
+    bool decisive = false;          // sample taken
+    double decisive_time = NAN;
+    Vec3 sample = Vec3::Zero(), target_now = Vec3::Zero(), dir = -Vec3::UnitZ();
+    double best_depth = -INFINITY;  // deepest planned depth seen [m]
+    // re-insertion hysteresis on the planned depth
+    bool forward = true;
+    double extreme = 0.0;
+    int reinsertions = 0;
+    double peak_force = 0.0, force_sum = 0.0;
+    int64_t force_ticks = 0;
+    double first_contact = NAN;
+    double last_seed_time = NAN;
+    int punctures = 0;
+    int entry = -1;                 // first component entered (route)
+    int entry_punctures = 0;
+    uint32_t hit_mask = 0;          // bit per kStructure*
+    bool lesion_target = false;
+  };
+  const Model* model_;
+  MetricsOptions opt_;
+  int gland_ = -1;
+  std::vector<Track> tracks_;
+  std::vector<std::vector<TrackedPoint>> seed_sites_;  // [needle][seed]
+  std::vector<TrackedPoint> urethra_;
+  std::vector<Vec3> urethra_now_;                      // scratch, sized once
+  std::vector<uint8_t> structure_of_;                  // [components] kStructure* bit or 0
+  int64_t events_seen_ = 0;
+  double first_contact_ = NAN;
+};
+
+// Names of the structure bits (urethra, rectal wall, bladder, bone).
+const char* structure_name(int bit);
+// Structure bit of a component by its name and kind (0: none).
+uint32_t structure_of(const Component& c);
+
+}  // namespace ps

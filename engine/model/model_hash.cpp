@@ -1,0 +1,83 @@
+#include "engine/model/model_hash.h"
+
+#include <string>
+#include <vector>
+
+namespace ps {
+
+namespace {
+
+struct Fnv {
+  uint64_t h = 1469598103934665603ull;
+  void bytes(const void* p, size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    for (size_t i = 0; i < n; ++i) {
+      h ^= b[i];
+      h *= 1099511628211ull;
+    }
+  }
+  template <class T>
+  void pod(const T& v) { bytes(&v, sizeof v); }
+  template <class T>
+  void vec(const std::vector<T>& v) {
+    pod(v.size());
+    if (!v.empty()) bytes(v.data(), v.size() * sizeof(T));
+  }
+  void str(const std::string& s) {
+    pod(s.size());
+    bytes(s.data(), s.size());
+  }
+};
+
+}  // namespace
+
+uint64_t model_hash(const Model& m) {
+  Fnv f;
+  f.pod(m.dt);
+  f.pod(m.substeps);
+  f.pod(m.duration);
+  for (int k = 0; k < 3; ++k) f.pod(m.gravity[k]);
+  f.pod(m.redistribution);
+  for (const Vec3& p : m.rest_pos) for (int k = 0; k < 3; ++k) f.pod(p[k]);
+  f.vec(m.mass);
+  f.vec(m.k_e);
+  f.vec(m.k_c);
+  f.vec(m.k_f);
+  f.vec(m.damping);
+  f.vec(m.component_of);
+  f.vec(m.on_surface);
+  f.vec(m.locked_axes);
+  f.vec(m.nbr_start);
+  f.vec(m.nbr);
+  f.vec(m.nbr_w);
+  for (const BetaTriplet& b : m.beta) { f.pod(b.i); f.pod(b.j); f.pod(b.k); f.pod(b.b); }
+  for (const std::string& t : m.tag_names) f.str(t);
+  f.vec(m.particle_tags);
+  for (const Component& c : m.components) {
+    f.str(c.name);
+    f.pod(c.kind);
+    f.pod(c.spacing);
+    f.pod(c.active_force);
+  }
+  for (const Surface& s : m.surfaces) {
+    f.vec(s.vertices);
+    for (const auto& t : s.faces) f.pod(t);
+    f.pod(s.rest_volume);
+    f.pod(s.volume_constrained);
+  }
+  for (const FixedParticle& p : m.fixed) { f.pod(p.particle); f.pod(p.axes); }
+  for (const ImposedDisplacement& d : m.imposed) {
+    f.vec(d.particles);
+    for (int k = 0; k < 3; ++k) f.pod(d.by[k]);
+    f.pod(d.t0);
+    f.pod(d.t1);
+  }
+  for (const HalfSpace& h : m.half_spaces) f.vec(h.particles);
+  for (const AppliedForce& a : m.applied_forces) {
+    f.vec(a.particles);
+    for (int k = 0; k < 3; ++k) f.pod(a.total[k]);
+  }
+  return f.h;
+}
+
+}  // namespace ps
