@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/progress.h"
 #include "app/validate_probe.h"
 #include "app/validation.h"
 #include "engine/util/atomic_file.h"
@@ -67,7 +68,10 @@ void add_validate_command(CLI::App& app, Runner& run) {
       std::vector<ValidationRow> rows;
       bool all_pass = true;
       std::printf("%-18s %-40s %12s %12s %-5s %s\n", "case", "metric", "value", "reference", "unit", "status");
+      Progress progress("validate", static_cast<int>(chosen.size()));
+      int progress_done = 0;
       for (const ValidationCase* c : chosen) {
+        progress.update(progress_done++, c->name);
         std::vector<ValidationRow> got;
         try {
           got = c->run(root, data);
@@ -77,6 +81,7 @@ void add_validate_command(CLI::App& app, Runner& run) {
           got.push_back({c->name, "error", std::nan(""), 0.0, "", 0.0});
           std::printf("%-18s failed to run: %s\n", c->name.c_str(), e.what());
         }
+        progress.clear();
         for (const auto& r : got) {
           const bool ok = r.pass();
           all_pass &= ok;
@@ -89,6 +94,7 @@ void add_validate_command(CLI::App& app, Runner& run) {
           std::fflush(stdout);
           rows.push_back(r);
         }
+        progress.step(c->name);
       }
       if (!args->json.empty()) {
         nlohmann::json j = nlohmann::json::array();

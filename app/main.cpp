@@ -2,14 +2,18 @@
 #include <spdlog/spdlog.h>
 
 #include <exception>
+#include <filesystem>
+#include <new>
+#include <string>
 
 #include "app/commands.h"
 #include "engine/util/error.h"
+#include "engine/util/sim_fault.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"ProstateSim: prostate biopsy and brachytherapy simulator (discrete shape-memory tissue model)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "prostatesim 0.1");
+  app.set_version_flag("--version", std::string("prostatesim ") + ps::app::kVersion);
   bool verbose = false;
   app.add_flag("-v,--verbose", verbose, "log progress to stderr");
   ps::app::Runner run;
@@ -18,6 +22,8 @@ int main(int argc, char** argv) {
   ps::app::add_validate_command(app, run);
   ps::app::add_make_anatomy_command(app, run);
   ps::app::add_insert_command(app, run);
+  ps::app::add_stress_command(app, run);
+  ps::app::add_bench_command(app, run);
   // frontends (window, PNG frames) register in app/run_session.h before these two are added
   ps::app::add_run_command(app, run);
   ps::app::add_replay_command(app, run);
@@ -34,11 +40,33 @@ int main(int argc, char** argv) {
   } catch (const ps::InputError& e) {
     spdlog::error("error: {}", e.what());
     return ps::app::kExitBadInput;
-  } catch (const ps::CompileError& e) {
+  } catch (const ps::CompileError& e) {  // degenerate geometry in the scenario's meshes
     spdlog::error("error: {}", e.what());
     return ps::app::kExitBadInput;
+  } catch (const ps::SimulationFault& e) {
+    spdlog::error("simulation fault: {}", e.what());
+    return ps::app::kExitFault;
+  } catch (const std::filesystem::filesystem_error& e) {  // an output path the user gave
+    spdlog::error("error: {}", e.what());
+    return ps::app::kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    spdlog::error("error: out of memory (the scene is too large for this machine; raise spacing_mm)");
+    return ps::app::kExitInternal;
   } catch (const std::exception& e) {
-    spdlog::error("error: {}", e.what());
-    return ps::app::kExitBadInput;
+    // logic_error, out_of_range, ... from inside the program: a bug, not bad input.
+    spdlog::error("{}", ps::app::internal_fault_message(e.what(), argc, argv));
+    return ps::app::kExitInternal;
+  } catch (...) {
+    spdlog::error("{}", ps::app::internal_fault_message("unknown exception", argc, argv));
+    return ps::app::kExitInternal;
   }
+}
+
+std::string ps::app::internal_fault_message(const std::string& what, int argc, char** argv) {
+  std::string cmd;
+  for (int i = 0; i < argc; ++i) cmd += (i ? " " : "") + std::string(argv[i]);
+  return "internal error: " + what +
+         "\nThis is a bug in ProstateSim, not a problem with your input. Please report it with the scenario "
+         "file(s) named below and this version:\n  version: prostatesim " + std::string(kVersion) +
+         "\n  command: " + cmd;
 }

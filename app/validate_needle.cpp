@@ -22,6 +22,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "engine/util/error.h"
+#include "engine/util/sim_fault.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/tools/needle_output.h"
@@ -46,13 +48,13 @@ NeedleRun run_needle_scenario(const std::string& scenario, const std::string& on
   if (!only.empty()) {
     auto& list = spec.needles.needles;
     std::erase_if(list, [&](const NeedleSpec& n) { return n.name != only; });
-    if (list.empty()) throw std::runtime_error(scenario + ": no needle named '" + only + "'");
+    if (list.empty()) throw InputError(scenario, 0, "--needle", "no needle named '" + only + "'");
   }
   NeedleRun out;
   out.model = compile_scenario(spec);
   Simulation sim(out.model);
   auto tool = make_needle_tool(out.model, spec.needles);
-  if (!tool) throw std::runtime_error(scenario + ": no needle");
+  if (!tool) throw InputError(scenario, 0, "needles", "the scenario has no needle");
   NeedleTool& needles = *tool;
   sim.add_tool(std::move(tool));
   ForceDepthRecorder rec(needles.count());
@@ -64,7 +66,7 @@ NeedleRun run_needle_scenario(const std::string& scenario, const std::string& on
   }
   const int ticks = static_cast<int>(std::lround(duration / out.model->dt));
   for (int i = 0; i < ticks; ++i) {
-    if (!sim.tick()) throw std::runtime_error(spec.name + ": simulation fault: " + sim.state().fault.describe(*out.model));
+    if (!sim.tick()) throw SimulationFault(spec.name + ": simulation fault: " + sim.state().fault.describe(*out.model));
     rec.sample(needles, sim.state().time);
   }
   out.samples = rec.samples(0);

@@ -8,6 +8,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "engine/util/error.h"
+#include "engine/util/sim_fault.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/step/stages.h"
@@ -65,7 +67,7 @@ DisplacementStudy run_displacement_study(const std::string& source_dir, const st
   const Surface& ps_ = m.surfaces[m.components[pc].surface];
   const Surface& bs = m.surfaces[m.components[bc].surface];
   auto tick = [&] {
-    if (!sim.tick()) throw std::runtime_error(name + ": simulation fault: " + sim.state().fault.describe(m));
+    if (!sim.tick()) throw SimulationFault(name + ": simulation fault: " + sim.state().fault.describe(m));
     const State& s = sim.state();
     st.worst_volume_error = std::max(st.worst_volume_error, std::abs(surface_volume(ps_, s.x) / s.target_volume[m.components[pc].surface] - 1.0));
     st.worst_volume_error = std::max(st.worst_volume_error, std::abs(surface_volume(bs, s.x) / s.target_volume[m.components[bc].surface] - 1.0));

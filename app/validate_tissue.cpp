@@ -4,6 +4,8 @@
 #include <limits>
 
 #include "app/validation.h"
+#include "engine/util/error.h"
+#include "engine/util/sim_fault.h"
 #include "engine/io/output.h"
 #include "engine/mesh/mesh_import.h"
 #include "engine/mesh/mesh_query.h"
@@ -26,8 +28,8 @@ std::unique_ptr<Simulation> settle(const ScenarioSpec& spec) {
   opt.rest_energy = spec.rest_kinetic_energy;
   opt.rest_hold = spec.rest_hold;
   const RunResult r = run_simulation(*sim, opt);
-  if (r.faulted) throw std::runtime_error(spec.name + ": simulation fault: " + r.fault);
-  if (!r.at_rest) throw std::runtime_error(spec.name + ": did not come to rest within " + std::to_string(spec.duration) + " s");
+  if (r.faulted) throw SimulationFault(spec.name + ": simulation fault: " + r.fault);
+  if (!r.at_rest) throw SimulationFault(spec.name + ": did not come to rest within " + std::to_string(spec.duration) + " s");
   return sim;
 }
 

@@ -94,7 +94,18 @@ ScriptEntry parse_entry(const YamlReader& r, const YAML::Node& n, const std::str
 }
 }  // namespace
 
+Script parse_script_text_unchecked(const std::string& text, const std::string& file);
+
 Script parse_script_text(const std::string& text, const std::string& file) {
+  // yaml-cpp's own exceptions (a non-scalar key, a bad conversion) become InputError with the line
+  try {
+    return parse_script_text_unchecked(text, file);
+  } catch (const YAML::Exception& e) {
+    throw InputError(file, e.mark.line >= 0 ? static_cast<int>(e.mark.line) + 1 : 0, "", "malformed script: " + e.msg);
+  }
+}
+
+Script parse_script_text_unchecked(const std::string& text, const std::string& file) {
   YamlReader r(file);
   YAML::Node root;
   try {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "engine/anatomy/scene_regions.h"
@@ -11,6 +12,7 @@
 #include "engine/model/strain_clusters.h"
 #include "engine/scenario/particle_set.h"
 #include "engine/scenario/shape_mesh.h"
+#include "engine/scenario/size_estimate.h"
 #include "engine/step/stages.h"
 #include "engine/util/error.h"
 #include "engine/util/spatial_grid.h"
@@ -107,6 +109,7 @@ double estimate_stable_dt(const Model& m) {
 
 std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileReport* report) {
   const auto t_start = std::chrono::steady_clock::now();
+  check_scenario_size(spec);  // refuses before allocating: names the spacing_mm to change
   auto model = std::make_shared<Model>();
   Model& m = *model;
   m.name = spec.name;
@@ -407,7 +410,25 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   m.stable_dt_estimate = estimate_stable_dt(m);
   const double h = m.dt / m.substeps;
   if (h > 0.9 * m.stable_dt_estimate) {
-    const int need = static_cast<int>(std::ceil(m.dt / (0.9 * m.stable_dt_estimate)));
+    // In double first: a stiffness like young_kpa 1e9 gives a stable step so small that the count
+    // overflows an int (it used to wrap to -2147483648 and the run "succeeded" with 0 steps).
+    const double need_d = m.dt / (0.9 * m.stable_dt_estimate);
+    if (!(need_d <= kMaxSubstepsPerTick)) {
+      const MaterialSpec* stiff = nullptr;
+      for (const auto& mat : spec.materials) {
+        const double e = mat.young.value_or(0.0), se = stiff ? stiff->young.value_or(0.0) : -1.0;
+        if (!stiff || e > se) stiff = &mat;
+      }
+      char b[256];
+      std::snprintf(b, sizeof b,
+                    "a tick of %g ms would need %.3g substeps for stability (stable substep %.3g s; limit %d "
+                    "substeps per tick): the scene is too stiff for its tick; lower young_kpa / k_e_n_m of the "
+                    "stiffest material or time.dt_ms",
+                    m.dt * 1e3, need_d, m.stable_dt_estimate, kMaxSubstepsPerTick);
+      throw InputError(spec.file, stiff ? stiff->loc.line : 0,
+                       stiff ? "materials." + stiff->name + ".young_kpa" : std::string("time.dt_ms"), b);
+    }
+    const int need = static_cast<int>(std::ceil(need_d));
     warnings.push_back("substeps raised from " + std::to_string(m.substeps) + " to " + std::to_string(need) +
                        ": substep " + std::to_string(h) + " s exceeds 90% of the stable limit " +
                        std::to_string(m.stable_dt_estimate) + " s");

@@ -19,6 +19,15 @@ namespace {
 constexpr double kMm = 1e-3;   // mm -> m
 constexpr double kKpa = 1e3;   // kPa -> Pa
 
+// Physical ranges of the material and discretisation keys, in the file's units. Soft tissue is
+// 0.1-100 kPa, bone ~2e7 kPa, steel 2e8 kPa; 1e-3 kPa is softer than any tissue. Whether a
+// stiff value is affordable is decided later from the stable substep (compile.cpp).
+constexpr double kMinYoungKpa = 1e-3, kMaxYoungKpa = 1e9;  // [kPa]
+constexpr double kMaxStiffnessNm = 1e9;                    // raw k_e / k_s [N/m]
+constexpr double kMaxDamping = 1e6;                        // [1/s]
+constexpr double kMaxNeedleWeightN = 1e3;                  // k_c, k_f [N]
+constexpr double kMinSpacingMm = 0.01, kMaxSpacingMm = 1e4;  // [mm]; the particle count is checked in compile
+
 SourceLoc loc_of(const YamlReader& r, const YAML::Node& n) { return SourceLoc{r.file(), YamlReader::line_of(n)}; }
 
 uint8_t parse_axes(const YamlReader& r, const YAML::Node& v, const std::string& key) {
@@ -87,14 +96,14 @@ MaterialSpec parse_material(const YamlReader& r, const std::string& name, const 
   MaterialSpec m;
   m.name = name;
   m.loc = loc_of(r, v);
-  if (v["young_kpa"]) m.young = r.positive(v["young_kpa"], k + ".young_kpa") * kKpa;
-  if (v["k_e_n_m"]) m.k_e = r.positive(v["k_e_n_m"], k + ".k_e_n_m");
+  if (v["young_kpa"]) m.young = r.ranged(v["young_kpa"], k + ".young_kpa", kMinYoungKpa, kMaxYoungKpa, "kPa") * kKpa;
+  if (v["k_e_n_m"]) m.k_e = r.ranged(v["k_e_n_m"], k + ".k_e_n_m", 1e-6, kMaxStiffnessNm, "N/m");
   if (!m.young && !m.k_e && !v["k_s_n_m"]) r.fail(v, k, "give young_kpa (Young's modulus) or k_e_n_m (raw stiffness)");
-  if (v["density_kg_m3"]) m.density = r.positive(v["density_kg_m3"], k + ".density_kg_m3");
-  if (v["damping_1_s"]) m.damping = r.non_negative(v["damping_1_s"], k + ".damping_1_s");
+  if (v["density_kg_m3"]) m.density = r.ranged(v["density_kg_m3"], k + ".density_kg_m3", 1.0, 1e5, "kg/m^3");
+  if (v["damping_1_s"]) m.damping = r.ranged(v["damping_1_s"], k + ".damping_1_s", 0.0, kMaxDamping, "1/s");
   if (v["incompressible"]) m.incompressible = r.boolean(v["incompressible"], k + ".incompressible");
-  if (v["k_c_n"]) m.k_c = r.non_negative(v["k_c_n"], k + ".k_c_n");
-  if (v["k_f_n"]) m.k_f = r.non_negative(v["k_f_n"], k + ".k_f_n");
+  if (v["k_c_n"]) m.k_c = r.ranged(v["k_c_n"], k + ".k_c_n", 0.0, kMaxNeedleWeightN, "N");
+  if (v["k_f_n"]) m.k_f = r.ranged(v["k_f_n"], k + ".k_f_n", 0.0, kMaxNeedleWeightN, "N");
   if (v["model"]) {
     const std::string model = r.string(v["model"], k + ".model");
     if (model == "strain") m.strain_model = true;
@@ -107,7 +116,7 @@ MaterialSpec parse_material(const YamlReader& r, const std::string& name, const 
   }
   if (v["k_s_n_m"]) {
     if (!m.strain_model) r.fail(v["k_s_n_m"], k + ".k_s_n_m", "k_s_n_m only applies to model: strain");
-    m.k_s = r.positive(v["k_s_n_m"], k + ".k_s_n_m");
+    m.k_s = r.ranged(v["k_s_n_m"], k + ".k_s_n_m", 1e-6, kMaxStiffnessNm, "N/m");
   }
   if (m.strain_model && !m.young && !m.k_s)
     r.fail(v, k, "model: strain needs young_kpa or k_s_n_m");
@@ -174,7 +183,7 @@ ComponentSpec parse_component(const YamlReader& r, const YAML::Node& c, int inde
       r.fail(c["type"], k + ".type", "type must be elastic, rigid or active");
   }
   cs.material = r.string(r.require(c, k, "material"), k + ".material");
-  cs.spacing = r.positive(r.require(c, k, "spacing_mm"), k + ".spacing_mm") * kMm;
+  cs.spacing = r.ranged(r.require(c, k, "spacing_mm"), k + ".spacing_mm", kMinSpacingMm, kMaxSpacingMm, "mm") * kMm;
   if (c["fill"]) {
     const std::string f = r.string(c["fill"], k + ".fill");
     if (f == "volumetric") cs.volumetric = true;
@@ -197,7 +206,7 @@ ComponentSpec parse_component(const YamlReader& r, const YAML::Node& c, int inde
     r.fail(c, k, "fibre / active_stress_kpa / activation only apply to type: active");
   if (cs.kind == "active") {
     cs.fibre = r.unit_vec3(r.require(c, k, "fibre"), k + ".fibre");
-    cs.active_stress = r.non_negative(r.require(c, k, "active_stress_kpa"), k + ".active_stress_kpa") * kKpa;
+    cs.active_stress = r.ranged(r.require(c, k, "active_stress_kpa"), k + ".active_stress_kpa", 0.0, 1e4, "kPa") * kKpa;
     if (c["activation"]) {
       cs.activation = r.number(c["activation"], k + ".activation");
       if (cs.activation < 0.0 || cs.activation > 1.0) r.fail(c["activation"], k + ".activation", "must be in [0, 1]");
@@ -249,18 +258,19 @@ OverrideSpec parse_override(const YamlReader& r, const YAML::Node& v, int index)
   o.loc = loc_of(r, v);
   o.component = r.string(r.require(v, k, "component"), k + ".component");
   o.region = parse_region(r, r.require(v, k, "region"), k + ".region");
-  if (v["young_kpa"]) o.young = r.positive(v["young_kpa"], k + ".young_kpa") * kKpa;
-  if (v["k_e_n_m"]) o.k_e = r.positive(v["k_e_n_m"], k + ".k_e_n_m");
-  if (v["k_c_n"]) o.k_c = r.non_negative(v["k_c_n"], k + ".k_c_n");
-  if (v["k_f_n"]) o.k_f = r.non_negative(v["k_f_n"], k + ".k_f_n");
-  if (v["damping_1_s"]) o.damping = r.non_negative(v["damping_1_s"], k + ".damping_1_s");
+  if (v["young_kpa"]) o.young = r.ranged(v["young_kpa"], k + ".young_kpa", kMinYoungKpa, kMaxYoungKpa, "kPa") * kKpa;
+  if (v["k_e_n_m"]) o.k_e = r.ranged(v["k_e_n_m"], k + ".k_e_n_m", 1e-6, kMaxStiffnessNm, "N/m");
+  if (v["k_c_n"]) o.k_c = r.ranged(v["k_c_n"], k + ".k_c_n", 0.0, kMaxNeedleWeightN, "N");
+  if (v["k_f_n"]) o.k_f = r.ranged(v["k_f_n"], k + ".k_f_n", 0.0, kMaxNeedleWeightN, "N");
+  if (v["damping_1_s"]) o.damping = r.ranged(v["damping_1_s"], k + ".damping_1_s", 0.0, kMaxDamping, "1/s");
   if (!o.young && !o.k_e && !o.k_c && !o.k_f && !o.damping) r.fail(v, k, "an override must set at least one parameter");
   return o;
 }
 
 }  // namespace
 
-ScenarioSpec parse_scenario_text(const std::string& text, const std::string& path) {
+namespace {
+ScenarioSpec parse_scenario_impl(const std::string& text, const std::string& path) {
   const YamlReader r(path);
   YAML::Node root;
   try {
@@ -278,12 +288,12 @@ ScenarioSpec parse_scenario_text(const std::string& text, const std::string& pat
   if (root["time"]) {
     const YAML::Node t = root["time"];
     r.only_keys(t, "time", {"dt_ms", "substeps", "duration_s"});
-    if (t["dt_ms"]) s.dt = r.positive(t["dt_ms"], "time.dt_ms") * 1e-3;
+    if (t["dt_ms"]) s.dt = r.ranged(t["dt_ms"], "time.dt_ms", 1e-4, 100.0, "ms") * 1e-3;
     if (t["substeps"]) {
       s.substeps = r.integer(t["substeps"], "time.substeps");
       if (s.substeps < 1 || s.substeps > 100000) r.fail(t["substeps"], "time.substeps", "must be in 1..100000");
     }
-    if (t["duration_s"]) s.duration = r.positive(t["duration_s"], "time.duration_s");
+    if (t["duration_s"]) s.duration = r.ranged(t["duration_s"], "time.duration_s", 1e-6, 1e6, "s");
   }
   if (root["solver"]) {
     const YAML::Node t = root["solver"];
@@ -294,11 +304,14 @@ ScenarioSpec parse_scenario_text(const std::string& text, const std::string& pat
       else if (v != "gradient") r.fail(t["redistribution"], "solver.redistribution", "must be gradient or linear");
     }
   }
-  if (root["gravity_m_s2"]) s.gravity = r.vec3(root["gravity_m_s2"], "gravity_m_s2");
+  if (root["gravity_m_s2"]) {
+    s.gravity = r.vec3(root["gravity_m_s2"], "gravity_m_s2");
+    if (s.gravity.norm() > 1000.0) r.fail(root["gravity_m_s2"], "gravity_m_s2", "out of physical range: |g| above 1000 m/s^2");
+  }
   if (root["rest"]) {
     const YAML::Node t = root["rest"];
     r.only_keys(t, "rest", {"kinetic_energy_j", "hold_s"});
-    if (t["kinetic_energy_j"]) s.rest_kinetic_energy = r.positive(t["kinetic_energy_j"], "rest.kinetic_energy_j");
+    if (t["kinetic_energy_j"]) s.rest_kinetic_energy = r.ranged(t["kinetic_energy_j"], "rest.kinetic_energy_j", 1e-15, 1e3, "J");
     if (t["hold_s"]) s.rest_hold = r.non_negative(t["hold_s"], "rest.hold_s");
   }
   const YAML::Node mats = r.require(root, "", "materials");
@@ -325,7 +338,7 @@ ScenarioSpec parse_scenario_text(const std::string& text, const std::string& pat
       l.loc = loc_of(r, n[i]);
       l.a = r.string(r.require(n[i], k, "a"), k + ".a");
       l.b = r.string(r.require(n[i], k, "b"), k + ".b");
-      l.distance = r.positive(r.require(n[i], k, "distance_mm"), k + ".distance_mm") * kMm;
+      l.distance = r.ranged(r.require(n[i], k, "distance_mm"), k + ".distance_mm", 1e-3, 1e3, "mm") * kMm;
       s.links.push_back(l);
     }
   if (const YAML::Node n = list("tags"))
@@ -345,7 +358,7 @@ ScenarioSpec parse_scenario_text(const std::string& text, const std::string& pat
     zs.loc = loc_of(r, z);
     zs.component = r.string(r.require(z, "prostate_zones", "component"), "prostate_zones.component");
     if (z["peripheral_depth_mm"])
-      zs.peripheral_depth = r.positive(z["peripheral_depth_mm"], "prostate_zones.peripheral_depth_mm") * kMm;
+      zs.peripheral_depth = r.ranged(z["peripheral_depth_mm"], "prostate_zones.peripheral_depth_mm", 1e-3, 100.0, "mm") * kMm;
     s.prostate_zones = zs;
   }
   if (root["probe"]) parse_probe_section(r, root["probe"], s);        // engine/tools/probe_parse.cpp
@@ -405,6 +418,18 @@ ScenarioSpec parse_scenario_text(const std::string& text, const std::string& pat
     if (l.a == l.b) throw InputError(path, l.loc.line, "links[" + std::to_string(i) + "]", "a component cannot link to itself");
   }
   return s;
+}
+
+}  // namespace
+
+ScenarioSpec parse_scenario_text(const std::string& text, const std::string& path) {
+  try {
+    return parse_scenario_impl(text, path);
+  } catch (const YAML::Exception& e) {
+    // A conversion the typed readers did not foresee (found by the fuzz test: a mapping used as a
+    // key) is still the file's fault: report it where yaml-cpp points.
+    throw InputError(path, e.mark.is_null() ? 0 : static_cast<int>(e.mark.line) + 1, "", "malformed YAML: " + e.msg);
+  }
 }
 
 ScenarioSpec parse_scenario_file(const std::string& path) {

@@ -3,6 +3,8 @@
 #pragma once
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
+#include <cstdio>
 #include <initializer_list>
 #include <set>
 #include <string>
@@ -44,13 +46,35 @@ class YamlReader {
     return v;
   }
 
+  // Every number in a scenario is in the file's units (mm, kPa, ms, N, ...); none of them has a
+  // physical meaning beyond 1e9 in magnitude, and values like 1e30 or inf only overflow what is
+  // computed from them (substep counts, particle counts), so they are refused here, for every key.
+  static constexpr double kMaxMagnitude = 1e9;
   double number(const YAML::Node& v, const std::string& key) const {
     if (!v.IsScalar()) fail(v, key, "expected a number");
+    double x = 0.0;
     try {
-      return v.as<double>();
+      x = v.as<double>();
     } catch (const YAML::Exception&) {
       fail(v, key, "expected a number, got '" + v.Scalar() + "'");
     }
+    if (!std::isfinite(x)) fail(v, key, "not a finite number: " + v.Scalar());
+    if (std::abs(x) > kMaxMagnitude)
+      fail(v, key, "out of physical range: " + v.Scalar() + " (no scenario value exceeds 1e9 in the file's units)");
+    return x;
+  }
+  // A number in [lo, hi] (file units; `unit` is shown in the message, e.g. "kPa").
+  double ranged(const YAML::Node& v, const std::string& key, double lo, double hi, const char* unit) const {
+    const double x = number(v, key);
+    if (!(x >= lo && x <= hi))
+      fail(v, key, "out of physical range: " + v.Scalar() + " " + unit + " (allowed " + fmt(lo) + " .. " + fmt(hi) +
+                       " " + unit + ")");
+    return x;
+  }
+  static std::string fmt(double x) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", x);
+    return b;
   }
   double positive(const YAML::Node& v, const std::string& key) const {
     const double x = number(v, key);
@@ -65,7 +89,7 @@ class YamlReader {
   int integer(const YAML::Node& v, const std::string& key) const {
     if (!v.IsScalar()) fail(v, key, "expected an integer");
     try {
-      return v.as<int>();
+      return v.as<int>();  // yaml-cpp refuses values that do not fit an int
     } catch (const YAML::Exception&) {
       fail(v, key, "expected an integer, got '" + v.Scalar() + "'");
     }

@@ -1,0 +1,131 @@
+// `prostatesim stress [SCENARIO...] [--quick] [--json FILE] [--csv FILE]`: numerical robustness
+// of each scene (app/stress.h). Default: the default scenes and the validation scenes. Prints a
+// table of what each case tried and what held; exit 0 when everything held (or was refused
+// cleanly), 3 when any case failed or ran out of its time budget.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "app/commands.h"
+#include "app/progress.h"
+#include "app/stress.h"
+#include "engine/scenario/compile.h"
+#include "engine/scenario/parse_yaml.h"
+#include "engine/util/atomic_file.h"
+#include "engine/util/error.h"
+
+namespace ps::app {
+
+namespace {
+
+struct StressArgs {
+  std::vector<std::string> scenarios;
+  bool quick = false;
+  std::string json, csv, root;
+  double budget_s = -1, soak_s = -1, run_s = -1;
+  uint64_t seed = 1;
+};
+
+std::vector<std::string> default_scenarios(const std::string& given_root) {
+  namespace fs = std::filesystem;
+  fs::path root = given_root;
+  if (root.empty())
+    for (fs::path p = fs::current_path(); !p.empty(); p = p.parent_path()) {
+      if (fs::exists(p / "config/biopsy.yaml")) { root = p; break; }
+      if (p == p.parent_path()) break;
+    }
+  if (root.empty() || !fs::exists(root / "config/biopsy.yaml"))
+    throw InputError("", 0, "stress", "no scenario given and no config/biopsy.yaml found above the working directory (use --root)");
+  std::vector<std::string> out;
+  for (const char* s : {"biopsy.yaml", "brachytherapy.yaml", "bladder_filling.yaml"}) out.push_back((root / "config" / s).string());
+  std::vector<std::string> val;
+  for (const auto& e : fs::directory_iterator(root / "config/validation"))
+    if (e.path().extension() == ".yaml") val.push_back(e.path().string());
+  std::sort(val.begin(), val.end());
+  out.insert(out.end(), val.begin(), val.end());
+  return out;
+}
+
+std::string csv_field(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+}  // namespace
+
+void add_stress_command(CLI::App& app, Runner& run) {
+  auto a = std::make_shared<StressArgs>();
+  CLI::App* sub = app.add_subcommand("stress", "stress-test numerical stability of scenes; exit 3 if any case failed");
+  sub->add_option("scenarios", a->scenarios, "scenario files (default: config/{biopsy,brachytherapy,bladder_filling}.yaml and config/validation/*.yaml)");
+  sub->add_flag("--quick", a->quick, "short runs (CI size, under 3 minutes for the defaults)");
+  sub->add_option("--json", a->json, "also write the table as JSON");
+  sub->add_option("--csv", a->csv, "also write the table as CSV");
+  sub->add_option("--root", a->root, "repository root holding config/ (default: found from the working directory)");
+  sub->add_option("--budget", a->budget_s, "wall-clock budget per case [s] (default 60, quick 12)")->check(CLI::Range(0.1, 86400.0));
+  sub->add_option("--soak", a->soak_s, "simulated time of the soak case [s] (default 0.5, quick 0.05; the benchmark by hand: 3600)")
+      ->check(CLI::Range(0.001, 1e6));
+  sub->add_option("--run", a->run_s, "simulated time of the other dynamic cases [s] (default 0.05, quick 0.02)")
+      ->check(CLI::Range(0.001, 100.0));
+  sub->add_option("--seed", a->seed, "seed of the random impulses and command sequences (replay a failure with it)")
+      ->capture_default_str();
+  sub->callback([a, &run] {
+    run = [a]() -> int {
+      StressOptions opt;
+      opt.quick = a->quick;
+      opt.budget_s = a->budget_s > 0 ? a->budget_s : (a->quick ? 12.0 : 60.0);
+      opt.soak_s = a->soak_s > 0 ? a->soak_s : (a->quick ? 0.05 : 0.5);
+      opt.run_s = a->run_s > 0 ? a->run_s : (a->quick ? 0.02 : 0.05);
+      opt.seed = a->seed;
+      const std::vector<std::string> files = a->scenarios.empty() ? default_scenarios(a->root) : a->scenarios;
+      std::vector<ScenarioSpec> specs;
+      std::vector<std::shared_ptr<const Model>> models;
+      for (const auto& f : files) {  // bad input: exit 2 before any case runs
+        specs.push_back(parse_scenario_file(f));
+        models.push_back(compile_scenario(specs.back()));
+      }
+      int total = 0;
+      for (const auto& s : specs) total += static_cast<int>(stress_case_names(s, opt).size());
+      Progress progress("stress", total);
+      int done = 0;
+      std::vector<StressResult> all;
+      std::printf("%-22s %-20s %-8s %8s %8s  %s\n", "scene", "case", "status", "sim_s", "wall_s", "tried / held");
+      for (size_t si = 0; si < specs.size(); ++si) {
+        const ScenarioSpec& s = specs[si];
+        const auto rows = run_stress_cases(s, models[si], opt, [&](const std::string& item) { progress.update(done++, item); });
+        progress.clear();
+        for (const auto& r : rows) {
+          std::printf("%-22s %-20s %-8s %8.4g %8.3g  %s\n%-62s -> %s\n", r.scene.c_str(), r.name.c_str(), r.status.c_str(), r.sim_s,
+                      r.wall_s, r.tried.c_str(), "", r.held.c_str());
+          std::fflush(stdout);
+        }
+        all.insert(all.end(), rows.begin(), rows.end());
+      }
+      progress.clear();
+      int failed = 0, timeouts = 0;
+      for (const auto& r : all) { failed += r.status == "FAIL"; timeouts += r.status == "TIMEOUT"; }
+      if (!a->json.empty()) {
+        nlohmann::json j = nlohmann::json::array();
+        for (const auto& r : all)
+          j.push_back({{"scene", r.scene}, {"case", r.name}, {"status", r.status}, {"tried", r.tried}, {"held", r.held},
+                       {"sim_s", r.sim_s}, {"wall_s", r.wall_s}});
+        write_file_atomic(a->json, j.dump(2) + "\n");
+      }
+      if (!a->csv.empty()) {
+        std::ostringstream o;
+        o << "scene,case,status,sim_s,wall_s,tried,held\n";
+        for (const auto& r : all)
+          o << csv_field(r.scene) << ',' << csv_field(r.name) << ',' << r.status << ',' << r.sim_s << ',' << r.wall_s << ','
+            << csv_field(r.tried) << ',' << csv_field(r.held) << '\n';
+        write_file_atomic(a->csv, o.str());
+      }
+      std::printf("%zu cases: %d failed, %d ran out of time\n", all.size(), failed, timeouts);
+      return failed + timeouts ? kExitFault : kExitOk;
+    };
+  });
+}
+
+}  // namespace ps::app

@@ -1,0 +1,93 @@
+#include "engine/sim/watchdog.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace ps {
+
+Watchdog::Watchdog(const Model& m, WatchLimits limits) : lim_(limits) {
+  lo_ = Vec3::Constant(1e300);
+  hi_ = Vec3::Constant(-1e300);
+  for (int p = 0; p < m.particle_count(); ++p) {
+    if (m.inv_mass[p] > 0) total_mass_ += 1.0 / m.inv_mass[p];
+    lo_ = lo_.cwiseMin(m.rest_pos[p]);
+    hi_ = hi_.cwiseMax(m.rest_pos[p]);
+  }
+  lo_ -= Vec3::Constant(lim_.leave_margin);
+  hi_ += Vec3::Constant(lim_.leave_margin);
+}
+
+WatchFinding Watchdog::check(const Model& m, const State& s) const {
+  WatchFinding f;
+  f.time = s.time;
+  if (s.fault.kind != StepFault::None) {
+    static const char* kinds[] = {"none", "not finite", "too fast", "too far", "volume solve"};
+    f.ok = false;
+    f.what = std::string("step fault: ") + kinds[s.fault.kind];
+    f.particle = s.fault.particle;
+    f.value = s.fault.value;
+    f.time = s.fault.time;
+    return f;
+  }
+  const int n = m.particle_count();
+  int fastest = -1;
+  double vmax2 = 0.0;
+  for (int p = 0; p < n; ++p) {
+    const double v2 = s.v[p].squaredNorm();
+    if (!std::isfinite(v2) || !s.x[p].allFinite()) {
+      f.ok = false;
+      f.what = "not finite";
+      f.particle = p;
+      return f;
+    }
+    if (v2 > vmax2) { vmax2 = v2; fastest = p; }
+    const Vec3& x = s.x[p];
+    if ((x.array() < lo_.array()).any() || (x.array() > hi_.array()).any()) {
+      f.ok = false;
+      f.what = "left the scene";
+      f.particle = p;
+      f.value = (x - m.rest_pos[p]).norm();
+      return f;
+    }
+  }
+  const double ke = kinetic_energy(m, s);
+  if (std::sqrt(vmax2) > lim_.max_speed || ke > 0.5 * total_mass_ * lim_.max_speed * lim_.max_speed) {
+    f.ok = false;
+    f.what = "energy growth";
+    f.particle = fastest;
+    f.value = std::sqrt(vmax2);
+    return f;
+  }
+  for (size_t si = 0; si < m.surfaces.size(); ++si) {
+    const auto& surf = m.surfaces[si];
+    if (!surf.volume_constrained || !(s.target_volume[si] > 0)) continue;
+    double vol = 0.0;  // closed-surface volume by the divergence theorem
+    for (const auto& t : surf.faces) vol += s.x[t[0]].dot(s.x[t[1]].cross(s.x[t[2]])) / 6.0;
+    const double drift = std::abs(vol - s.target_volume[si]) / s.target_volume[si];
+    if (drift > lim_.volume_drift) {
+      f.ok = false;
+      f.what = "volume drift";
+      f.particle = surf.faces.empty() ? -1 : surf.faces[0][0];
+      f.value = drift;
+      return f;
+    }
+  }
+  return f;
+}
+
+std::string WatchFinding::describe(const Model& m) const {
+  if (ok) return "ok";
+  char b[320];
+  if (particle >= 0 && particle < m.particle_count()) {
+    const Vec3 r = m.rest_pos[particle] * 1e3;
+    const int c = m.component_of[particle];
+    std::snprintf(b, sizeof b, "%s at t=%.6g s, particle %d (%s, rest [%.1f, %.1f, %.1f] mm), value %.3g",
+                  what.c_str(), time, particle, c >= 0 ? m.components[c].name.c_str() : "?", r.x(), r.y(), r.z(),
+                  value);
+  } else {
+    std::snprintf(b, sizeof b, "%s at t=%.6g s, value %.3g", what.c_str(), time, value);
+  }
+  return b;
+}
+
+}  // namespace ps

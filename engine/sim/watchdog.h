@@ -1,0 +1,43 @@
+// Watchdog for long and stressed runs (`prostatesim stress`, the soak benchmark): after each tick
+// it checks what the step's own check (NaN/Inf, speed, excursion; State::fault) does not:
+//   - energy growth: kinetic energy above what anything in the scene can inject
+//     (0.5 * total mass * max_speed^2), or the fastest particle above max_speed;
+//   - volume drift: a volume-constrained organ off its target volume by more than volume_drift;
+//   - a particle leaving the scene: farther than leave_margin outside the rest bounding box.
+// Runs between ticks on the caller's thread; it allocates only in the constructor.
+#pragma once
+#include <string>
+
+#include "engine/model/model.h"
+#include "engine/state/state.h"
+
+namespace ps {
+
+struct WatchLimits {
+  double max_speed = 10.0;      // nothing in a surgical scene moves faster (needle clamp 3 m/s) [m/s]
+  double volume_drift = 0.05;   // |V - V_target| / V_target of a constrained surface [-]
+  double leave_margin = 0.05;   // beyond the rest bounding box of all particles [m]
+};
+
+struct WatchFinding {
+  bool ok = true;
+  std::string what;             // "energy growth" | "volume drift" | "left the scene" | step fault kind
+  int particle = -1;            // offending particle, -1 when not particle-specific
+  double time = 0.0;            // [s]
+  double value = 0.0;           // the offending speed [m/s], drift [-] or distance [m]
+  std::string describe(const Model& m) const;  // one line: what, time, particle (component, rest mm)
+};
+
+class Watchdog {
+ public:
+  Watchdog(const Model& m, WatchLimits limits = {});
+  // After a tick. Returns the first problem found (ok=false) or ok.
+  WatchFinding check(const Model& m, const State& s) const;
+
+ private:
+  WatchLimits lim_;
+  double total_mass_ = 0.0;     // [kg]
+  Vec3 lo_, hi_;                // rest bounding box widened by leave_margin [m]
+};
+
+}  // namespace ps

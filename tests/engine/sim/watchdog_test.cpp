@@ -1,0 +1,61 @@
+// Tests for engine/sim/watchdog.cpp, and the CI-sized soak: the watchdog must stay quiet on a
+// healthy run and name the particle and the time for each kind of trouble it watches.
+#include "engine/sim/watchdog.h"
+
+#include <gtest/gtest.h>
+
+#include "engine/step/simulation.h"
+#include "tests/engine/test_scenes.h"
+
+namespace ps {
+namespace {
+
+TEST(Watchdog, QuietOnAHealthySoak) {
+  // CI-sized soak: 2 s of an incompressible cube sagging under gravity, checked every tick.
+  const auto m = test::compile_text(test::cube_yaml(40, 10, true));
+  Simulation sim(m);
+  const Watchdog dog(*m);
+  for (int k = 0; k < 2000; ++k) {
+    ASSERT_TRUE(sim.tick());
+    const WatchFinding f = dog.check(*m, sim.state());
+    ASSERT_TRUE(f.ok) << f.describe(*m);
+  }
+}
+
+TEST(Watchdog, NamesAParticleThatIsTooFast) {
+  const auto m = test::compile_text(test::cube_yaml(40, 10));
+  State s = make_state(*m);
+  s.time = 0.25;
+  s.v[37] = Vec3(0, 0, 20.0);  // [m/s] above the 10 m/s limit
+  const WatchFinding f = Watchdog(*m).check(*m, s);
+  EXPECT_FALSE(f.ok);
+  EXPECT_EQ(f.what, "energy growth");
+  EXPECT_EQ(f.particle, 37);
+  const std::string d = f.describe(*m);
+  EXPECT_NE(d.find("particle 37"), std::string::npos) << d;
+  EXPECT_NE(d.find("t=0.25"), std::string::npos) << d;
+}
+
+TEST(Watchdog, NamesAParticleThatLeftTheScene) {
+  const auto m = test::compile_text(test::cube_yaml(40, 10));
+  State s = make_state(*m);
+  s.x[5] += Vec3(0.2, 0, 0);  // 200 mm outside
+  const WatchFinding f = Watchdog(*m).check(*m, s);
+  EXPECT_EQ(f.what, "left the scene");
+  EXPECT_EQ(f.particle, 5);
+}
+
+TEST(Watchdog, SeesNaNAndVolumeDrift) {
+  const auto m = test::compile_text(test::cube_yaml(40, 10, true));
+  State s = make_state(*m);
+  s.v[3].x() = std::nan("");
+  EXPECT_EQ(Watchdog(*m).check(*m, s).what, "not finite");
+  State t = make_state(*m);
+  for (auto& x : t.x) x *= 1.1;  // 33 % more volume than the target
+  const WatchFinding f = Watchdog(*m, {10.0, 0.05, 1.0}).check(*m, t);
+  EXPECT_EQ(f.what, "volume drift") << f.describe(*m);
+  EXPECT_NEAR(f.value, 1.1 * 1.1 * 1.1 - 1.0, 1e-6);
+}
+
+}  // namespace
+}  // namespace ps
