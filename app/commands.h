@@ -28,6 +28,8 @@ void add_make_anatomy_command(CLI::App& app, Runner& run);
 void add_insert_command(CLI::App& app, Runner& run);        // cmd_insert.cpp (needles)
 void add_ultrasound_command(CLI::App& app, Runner& run);    // cmd_ultrasound.cpp (simulated TRUS)
 void add_report_command(CLI::App& app, Runner& run);        // cmd_report.cpp (class metrics)
+void add_run_command(CLI::App& app, Runner& run);           // cmd_run.cpp (real-time loop)
+void add_replay_command(CLI::App& app, Runner& run);        // cmd_replay.cpp (record/replay)
 void add_stress_command(CLI::App& app, Runner& run);        // cmd_stress.cpp (app/stress.h)
 void add_bench_command(CLI::App& app, Runner& run);         // cmd_bench.cpp
 

@@ -26,6 +26,9 @@ int main(int argc, char** argv) {
   ps::app::add_report_command(app, run);
   ps::app::add_stress_command(app, run);
   ps::app::add_bench_command(app, run);
+  // frontends (window, PNG frames) register in app/run_session.h before these two are added
+  ps::app::add_run_command(app, run);
+  ps::app::add_replay_command(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -303,7 +303,7 @@ StressResult random_commands(const ScenarioSpec& spec, const StressOptions& opt,
   if (!spec.probe && !spec.filling) return {spec.name, r.name, "scene has no live-commanded instrument", "", "skipped"};
   Scene sc = build(spec, m0);
   CommandQueue queue(256);
-  CommandApplier applier(*sc.model, sc.probe, sc.filling);
+  CommandApplier applier(*sc.sim);
   std::mt19937_64 rng(opt.seed * 104729 + 3);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   std::uniform_int_distribution<int> K(0, 9);

@@ -21,6 +21,8 @@ int soak(int substeps);                             // soak.cpp
 int stable_dt_profile(const std::string& file);     // stable_dt_profile.cpp
 int fast_error(const std::string& scene, int substeps, int mass_scaling, int triplets, double duration,
                int ref_substeps);  // fast_error.cpp
+int run_ticks(const std::string& file, int ticks);  // tick_mode.cpp
+int realtime_loop(double wall_s);                   // realtime_loop.cpp
 
 // The shape-memory stage exactly as it was before the performance work (reference_shape_memory.cpp):
 // kept so one binary measures the speed-up and checks the optimised stage against it.

@@ -9,8 +9,11 @@
 //   prostatesim_bench --dt-profile FILE        what sets FILE's stable substep (particles, terms)
 //   prostatesim_bench --fast-error SCENE SUBSTEPS MASS_SCALING TRIPLETS DURATION_S [REF_SUBSTEPS]
 //                                              fast configuration vs the converged reference
+//   prostatesim_bench --ticks SCENARIO N       N ticks of a scenario file with its tools (callgrind)
 //   prostatesim_bench --soak [N]               config/biopsy.yaml with its tools for N substeps
 //                                              (default 100000): no fault, finite, volumes held
+//   prostatesim_bench --realtime [WALL_S]      the real-time loop on each default scene with its
+//                                              script, WALL_S s each: tick rate, jitter, slow motion
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -32,6 +35,8 @@ int main(int argc, char** argv) {
     return ps::bench::fast_error(argv[2], std::atoi(argv[3]), std::atoi(argv[4]), std::atoi(argv[5]),
                                  std::atof(argv[6]), argc >= 8 ? std::atoi(argv[7]) : 0);
   if (argc >= 2 && std::strcmp(argv[1], "--soak") == 0) return ps::bench::soak(argc >= 3 ? std::atoi(argv[2]) : 100000);
+  if (argc >= 2 && std::strcmp(argv[1], "--realtime") == 0) return ps::bench::realtime_loop(argc >= 3 ? std::atof(argv[2]) : 20.0);
+  if (argc >= 4 && std::strcmp(argv[1], "--ticks") == 0) return ps::bench::run_ticks(argv[2], std::atoi(argv[3]));
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

@@ -101,6 +101,11 @@ class ProbeTool final : public Tool {
   void boundary_conditions(const Model& m, State& s, double dt) override;
   void constraints(const Model& m, State& s, double dt) override;
   void after_step(const Model& m, State& s, double dt) override;
+  // live use (probe_live.cpp): ProbeMove; every mutable field walked by serialize()
+  bool apply(const Command& c, const Model& m, const State& s, CommandRefusal& why) override;
+  bool accepts(CommandKind k) const override { return k == CommandKind::ProbeMove; }
+  void serialize(StateIO& io) override;
+  void readout(ToolReadout& r, const Model& m, const State& s) const override;
 
   // Broad phase used from the next substep on (default Fcl). Between ticks.
   void set_broad_phase(ProbeBroadPhase b) { broad_ = fcl_ ? b : ProbeBroadPhase::Box; }
