@@ -101,6 +101,8 @@ class ProbeTool final : public Tool {
   void boundary_conditions(const Model& m, State& s, double dt) override;
   void constraints(const Model& m, State& s, double dt) override;
   void after_step(const Model& m, State& s, double dt) override;
+  // probe body, biopsy guide and its planned path, template grid, force arrow (probe_draw.cpp)
+  void draw(DrawSink& out, const Model& m, const State& s) const override;
 
   // Broad phase used from the next substep on (default Fcl). Between ticks.
   void set_broad_phase(ProbeBroadPhase b) { broad_ = fcl_ ? b : ProbeBroadPhase::Box; }
