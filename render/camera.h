@@ -1,5 +1,6 @@
 // Cameras: the preset views a urologist asks for (anterior, lateral = sagittal from the
-// patient's right, along the probe, along the active needle) and a free orbit camera. World
+// patient's right, along the probe, side-on to the active needle at its tip) and a free orbit
+// camera. World
 // frame: patient RAS in metres (x patient right, y anterior, z superior).
 #pragma once
 #include <Eigen/Core>
