@@ -4,10 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "app/frames/png_out.h"
-#if PROSTATESIM_HAVE_PLOT
+#include "engine/io/png_write.h"
 #include "app/plot/chart.h"
-#endif
 
 namespace ps::frames {
 
@@ -32,7 +30,6 @@ Thumb make_thumb(const std::vector<uint8_t>& rgb, int w, int h, int width, doubl
 }
 
 void write_contact_sheet(const std::string& path, const ContactSheetInput& in) {
-#if PROSTATESIM_HAVE_PLOT
   const int tw = in.thumbs.empty() ? 640 : in.thumbs[0].w, th = in.thumbs.empty() ? 360 : in.thumbs[0].h;
   const int pad = 8, label = 22;
   const int W = 2 * tw + 3 * pad;
@@ -84,12 +81,7 @@ void write_contact_sheet(const std::string& path, const ContactSheetInput& in) {
   const int oy = H - plot_h - pad;
   for (int y = 0; y < pc.height(); ++y)
     for (int x = 0; x < pc.width(); ++x) sheet.fill_rect(pad + x, oy + y, pad + x + 1, oy + y + 1, pc.at(x, y));
-  write_png(path, sheet.width(), sheet.height(), 3, sheet.pixels().data());
-#else
-  // without app/plot (h-stress): the frames only, in a 2-column grid
-  (void)path;
-  (void)in;
-#endif
+  ps::write_png_atomic(path, sheet.width(), sheet.height(), 3, sheet.pixels().data());
 }
 
 }  // namespace ps::frames

@@ -9,7 +9,7 @@
 #include <unistd.h>
 
 #include "app/frames/contact_sheet.h"
-#include "app/frames/png_out.h"
+#include "engine/io/png_write.h"
 #include "app/frames/png_queue.h"
 #include "engine/model/model.h"
 #include "engine/util/atomic_file.h"

@@ -1,6 +1,6 @@
 #include "app/frames/png_queue.h"
 
-#include "app/frames/png_out.h"
+#include "engine/io/png_write.h"
 
 namespace ps::frames {
 
@@ -58,7 +58,7 @@ void PngQueue::run() {
     }
     std::exception_ptr err;
     try {
-      write_png(job.path, job.w, job.h, 3, job.rgb.data());
+      ps::write_png_atomic(job.path, job.w, job.h, 3, job.rgb.data());
     } catch (...) {
       err = std::current_exception();
     }

@@ -11,7 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "app/frames/png_out.h"
+#include "engine/io/png_write.h"
 #include "render/headless_context.h"
 #include "render/renderer.h"
 #include "scene_fixture.h"
@@ -59,7 +59,7 @@ void save_preview(const Image& im, const std::string& name) {
   const char* dir = std::getenv("PROSTATESIM_PREVIEW_DIR");
   if (!dir) return;
   fs::create_directories(dir);
-  frames::write_png((fs::path(dir) / name).string(), im.w, im.h, 3, im.rgb.data());
+  ps::write_png_atomic((fs::path(dir) / name).string(), im.w, im.h, 3, im.rgb.data());
 }
 
 class SceneRenderTest : public ::testing::Test {
