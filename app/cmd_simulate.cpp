@@ -12,6 +12,7 @@
 #include "engine/io/output.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
+#include "engine/sim/scene.h"
 #include "engine/tools/displacement_field.h"
 #include "engine/tools/filling.h"
 #include "engine/tools/needle.h"
@@ -40,15 +41,13 @@ void add_simulate_command(CLI::App& app, Runner& run) {
   sub->callback([args, &run] {
     run = [args]() -> int {
       const ScenarioSpec spec = parse_scenario_file(args->scenario);
-      CompileReport rep;
-      auto model = compile_scenario(spec, &rep);
-      Simulation sim(model);
-      // instruments of the scene: each joins the pipeline only when its section is present
-      ProbeTool* probe = nullptr;
-      FillingTool* filling = nullptr;
-      if (auto t = make_needle_tool(model, spec.needles)) sim.add_tool(std::move(t));
-      if (auto t = make_probe_tool(spec, *model)) { probe = t.get(); sim.add_tool(std::move(t)); }
-      if (auto t = make_filling_tool(spec, *model)) { filling = t.get(); sim.add_tool(std::move(t)); }
+      // the model and the instruments of the scene (each only when its section is present)
+      Scene scene = build_scene(spec);
+      const CompileReport& rep = scene.report;
+      const std::shared_ptr<const Model> model = scene.model;
+      Simulation& sim = *scene.sim;
+      auto* probe = scene.probe_tool >= 0 ? static_cast<ProbeTool*>(sim.tools()[scene.probe_tool].get()) : nullptr;
+      auto* filling = scene.filling_tool >= 0 ? static_cast<FillingTool*>(sim.tools()[scene.filling_tool].get()) : nullptr;
       RunOptions opt;
       opt.duration = args->duration > 0 ? args->duration : (args->until_rest ? std::max(60.0, model->duration) : model->duration);
       opt.until_rest = args->until_rest;

@@ -19,5 +19,7 @@ void add_check_command(CLI::App& app, Runner& run);
 void add_validate_command(CLI::App& app, Runner& run);
 void add_make_anatomy_command(CLI::App& app, Runner& run);
 void add_insert_command(CLI::App& app, Runner& run);        // cmd_insert.cpp (needles)
+void add_run_command(CLI::App& app, Runner& run);           // cmd_run.cpp (real-time loop)
+void add_replay_command(CLI::App& app, Runner& run);        // cmd_replay.cpp (record/replay)
 
 }  // namespace ps::app

@@ -18,6 +18,9 @@ int main(int argc, char** argv) {
   ps::app::add_validate_command(app, run);
   ps::app::add_make_anatomy_command(app, run);
   ps::app::add_insert_command(app, run);
+  // frontends (window, PNG frames) register in app/run_session.h before these two are added
+  ps::app::add_run_command(app, run);
+  ps::app::add_replay_command(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -18,6 +18,8 @@ int run_steps(const std::string& scene, int steps); // modes.cpp
 int verify_shape_memory();                          // modes.cpp
 int stable_dt_study(int steps);                     // stable_dt.cpp
 int soak(int substeps);                             // soak.cpp
+int run_ticks(const std::string& file, int ticks);  // tick_mode.cpp
+int realtime_loop(double wall_s);                   // realtime_loop.cpp
 
 // The shape-memory stage exactly as it was before the performance work (reference_shape_memory.cpp):
 // kept so one binary measures the speed-up and checks the optimised stage against it.

@@ -6,8 +6,11 @@
 //                                              only those N substeps are counted
 //   prostatesim_bench --verify                 optimised shape memory vs the reference copy
 //   prostatesim_bench --stable-dt [N]          largest stable substep vs the estimate (N substeps)
+//   prostatesim_bench --ticks SCENARIO N       N ticks of a scenario file with its tools (callgrind)
 //   prostatesim_bench --soak [N]               config/biopsy.yaml with its tools for N substeps
 //                                              (default 100000): no fault, finite, volumes held
+//   prostatesim_bench --realtime [WALL_S]      the real-time loop on each default scene with its
+//                                              script, WALL_S s each: tick rate, jitter, slow motion
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -25,6 +28,8 @@ int main(int argc, char** argv) {
   if (argc >= 2 && std::strcmp(argv[1], "--stable-dt") == 0)
     return ps::bench::stable_dt_study(argc >= 3 ? std::atoi(argv[2]) : 20000);
   if (argc >= 2 && std::strcmp(argv[1], "--soak") == 0) return ps::bench::soak(argc >= 3 ? std::atoi(argv[2]) : 100000);
+  if (argc >= 2 && std::strcmp(argv[1], "--realtime") == 0) return ps::bench::realtime_loop(argc >= 3 ? std::atof(argv[2]) : 20.0);
+  if (argc >= 4 && std::strcmp(argv[1], "--ticks") == 0) return ps::bench::run_ticks(argv[2], std::atoi(argv[3]));
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

@@ -14,6 +14,7 @@
 #include "bench/bench_modes.h"
 #include "bench/scenes.h"
 #include "engine/sim/run.h"
+#include "engine/sim/scene.h"
 #include "engine/tools/filling.h"
 #include "engine/tools/needle.h"
 #include "engine/tools/probe.h"
@@ -36,12 +37,9 @@ bool state_ok(const Model& m, const State& s, double& worst_volume) {
 
 int soak(int substeps) {
   const std::string file = std::string(PROSTATESIM_SOURCE_DIR) + "/config/biopsy.yaml";
-  const ScenarioSpec spec = parse_scenario_file(file);
-  auto model = compile_scenario(spec);
-  Simulation sim(model);
-  if (auto t = make_needle_tool(model, spec.needles)) sim.add_tool(std::move(t));
-  if (auto t = make_probe_tool(spec, *model)) sim.add_tool(std::move(t));
-  if (auto t = make_filling_tool(spec, *model)) sim.add_tool(std::move(t));
+  Scene scene = load_scene(file);
+  const std::shared_ptr<const Model> model = scene.model;
+  Simulation& sim = *scene.sim;
   const double h = model->dt / model->substeps;
   std::printf("soak: %s, %d particles, %d substeps of %.4g s (%.3f s simulated), %zu tools\n", file.c_str(),
               model->particle_count(), substeps, h, substeps * h, sim.tools().size());

@@ -1,47 +1,69 @@
 #include "engine/realtime/command_apply.h"
 
-#include "engine/tools/filling.h"
-#include "engine/tools/probe.h"
-#include "engine/util/error.h"
+#include <cstring>
 
 namespace ps {
 
-bool CommandApplier::apply(const Command& c) {
-  auto refuse = [&](const std::string& why) {
+const char* command_kind_name(CommandKind k) {
+  switch (k) {
+    case CommandKind::ProbeMove: return "probe_move";
+    case CommandKind::FillRate: return "fill_rate";
+    case CommandKind::FillTo: return "fill_to";
+    case CommandKind::NeedleAim: return "needle_aim";
+    case CommandKind::NeedleAdvance: return "needle_advance";
+    case CommandKind::NeedleRotate: return "needle_rotate";
+    case CommandKind::NeedleRelease: return "needle_release";
+    case CommandKind::FireGun: return "fire_gun";
+    case CommandKind::DepositSeed: return "deposit_seed";
+    case CommandKind::SelectNeedle: return "select_needle";
+    case CommandKind::SelectHole: return "select_hole";
+  }
+  return "?";
+}
+
+int command_kind_from_name(const char* name) {
+  for (int k = 0; k < kCommandKinds; ++k)
+    if (std::strcmp(name, command_kind_name(static_cast<CommandKind>(k))) == 0) return k;
+  return -1;
+}
+
+std::string RefusalReport::describe() const {
+  return "tick " + std::to_string(tick) + ": " + command_kind_name(kind) + " refused: " + text;
+}
+
+bool CommandApplier::apply(const Command& c, int64_t tick) {
+  const auto& tools = sim_.tools();
+  CommandRefusal why;
+  int target = c.tool;
+  if (target < 0) {
+    for (size_t i = 0; i < tools.size() && target < 0; ++i)
+      if (tools[i]->accepts(c.kind)) target = static_cast<int>(i);
+  }
+  bool ok = false;
+  if (static_cast<unsigned>(c.kind) >= static_cast<unsigned>(kCommandKinds)) {
+    why.set("unknown command kind");
+  } else if (target < 0 || target >= static_cast<int>(tools.size())) {
+    why.set(c.tool < 0 ? "no instrument in the scene takes this command" : "no such tool");
+  } else {
+    ok = tools[target]->apply(c, sim_.model(), sim_.state(), why);
+  }
+  if (!ok) {
     ++refused_;
-    reports_.push_back("tick " + std::to_string(c.tick) + ": command refused: " + why);
+    RefusalReport r;
+    r.tick = tick;
+    r.tool = target;
+    r.kind = c.kind;
+    std::memcpy(r.text, why.text, sizeof r.text);
+    refusals_.push(r);
     return false;
-  };
-  try {
-    switch (c.kind) {
-      case CommandKind::ProbeMove: {
-        if (!probe_) return refuse("no probe in the scene");
-        ProbePose p;
-        p.insertion = c.insertion;
-        p.offset = Vec3(c.offset[0], c.offset[1], c.offset[2]);
-        p.roll = c.roll;
-        p.tilt = c.tilt;
-        p.yaw = c.yaw;
-        probe_->move_to(p, c.duration);
-        break;
-      }
-      case CommandKind::FillRate:
-      case CommandKind::FillTo: {
-        if (!filling_) return refuse("no filling in the scene");
-        if (c.component < 0 || c.component >= static_cast<int>(m_.components.size()))
-          return refuse("component index " + std::to_string(c.component) + " out of range");
-        const std::string& name = m_.components[c.component].name;
-        if (c.kind == CommandKind::FillRate) filling_->set_rate(name, c.value);
-        else filling_->fill_to(name, c.value, c.duration);
-        break;
-      }
-      default:
-        return refuse("unknown command kind");
-    }
-  } catch (const InputError& e) {
-    return refuse(e.what());
   }
   ++applied_;
+  if (observer_) {
+    Command done = c;
+    done.tick = tick;
+    done.tool = static_cast<int16_t>(target);
+    observer_->applied(done);
+  }
   return true;
 }
 
@@ -56,7 +78,7 @@ int CommandApplier::apply_due(CommandQueue& q, int64_t tick, bool* complete) {
     }
     q.pop(c);
     if (c.tick < tick) ++late_;
-    apply(c);
+    apply(c, tick);
     ++n;
   }
   return n;

@@ -25,6 +25,9 @@ struct ToolReadout {
   bool active = false;             // the instrument the user drives now
 };
 
+// SnapshotEvent::kind of a command the tools refused (tool-specific kinds are below 255).
+inline constexpr uint8_t kSnapshotEventRefused = 255;
+
 // An event since the previous snapshot (puncture, bone hit, core, seed, fault, refused command).
 struct SnapshotEvent {
   double time = 0.0;               // simulation time [s]

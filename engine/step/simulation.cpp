@@ -1,8 +1,17 @@
 #include "engine/step/simulation.h"
 
+#include <cstring>
+
 #include "engine/step/stages.h"
 
 namespace ps {
+
+const StepContext Tool::kLoneStep{};
+
+void CommandRefusal::set(const char* msg) {
+  std::strncpy(text, msg, sizeof text - 1);
+  text[sizeof text - 1] = 0;
+}
 
 const char* stage_name(Stage s) {
   switch (s) {
@@ -32,6 +41,7 @@ Simulation::Simulation(std::shared_ptr<const Model> model)
 }
 
 void Simulation::add_tool(std::unique_ptr<Tool> tool) {
+  tool->ctx_ = ctx_.get();
   tools_.push_back(std::move(tool));
   build_pipeline();
 }
@@ -63,12 +73,20 @@ void Simulation::build_pipeline() {
   if (tools) pipeline_.push_back(Stage::ToolAfter);
 }
 
-bool Simulation::step(double dt) {
+bool Simulation::step(double dt, StageProbe* probe) {
   const Model& m = *model_;
   State& s = state_;
   if (s.fault.kind != StepFault::None) return false;
   const double t_end = s.time + dt;  // constraints at the end of the step use its end time
+  ctx_->dt = dt;
+  ctx_->end_time = t_end;
+  if (!in_tick_) {
+    ctx_->substep = 0;
+    ctx_->substeps = 1;
+    ctx_->last_substep = true;
+  }
   for (Stage st : pipeline_) {
+    if (probe) probe->begin(static_cast<int>(st));
     switch (st) {
       case Stage::ImposedDisplacement: apply_imposed_displacements(m, s, s.time); break;
       case Stage::ToolBoundary: for (auto& t : tools_) t->boundary_conditions(m, s, dt); break;
@@ -93,16 +111,76 @@ bool Simulation::step(double dt) {
         break;
       case Stage::ToolAfter: for (auto& t : tools_) t->after_step(m, s, dt); break;
     }
+    if (probe) probe->end(static_cast<int>(st));
   }
   return true;
 }
 
-bool Simulation::tick() {
+bool Simulation::tick(StageProbe* probe) {
   const Model& m = *model_;
   const double h = m.dt / m.substeps;
-  for (int i = 0; i < m.substeps; ++i)
-    if (!step(h)) return false;
-  return true;
+  in_tick_ = true;
+  ctx_->substeps = m.substeps;
+  bool ok = true;
+  for (int i = 0; i < m.substeps && ok; ++i) {
+    ctx_->substep = i;
+    ctx_->last_substep = i + 1 == m.substeps;
+    ok = step(h, probe);
+  }
+  in_tick_ = false;
+  return ok;
+}
+
+void serialize_state(State& s, StateIO& io) {
+  io.pod(s.time);
+  io.pod(s.step);
+  io.array(s.x);
+  io.array(s.v);
+  io.array(s.f);
+  io.array(s.x_prev);
+  io.array(s.attractor);
+  uint64_t nb = s.bodies.size();
+  io.pod(nb);
+  if (nb != s.bodies.size()) throw std::runtime_error("StateIO: rigid body count differs from the saved state's");
+  for (RigidBodyState& b : s.bodies) {
+    io.vec(b.com);
+    io.quat(b.rot);
+    io.vec(b.lin_vel);
+    io.vec(b.ang_vel);
+    io.vec(b.force);
+    io.vec(b.torque);
+  }
+  io.array(s.target_volume);
+  io.array(s.activation);
+  io.array(s.volume_grad);
+  io.array(s.last_lambda);
+  io.array(s.contact);
+  io.array(s.triplet_scratch);
+  io.array(s.strain_rot);
+  io.pod(s.fault.kind);
+  io.pod(s.fault.particle);
+  io.pod(s.fault.time);
+  io.pod(s.fault.value);
+  io.pod(s.clamp_count);
+}
+
+void Simulation::save(std::vector<uint8_t>& out) {
+  StateIO io(out, StateIO::Save);
+  serialize_state(state_, io);
+  for (auto& t : tools_) t->serialize(io);
+}
+
+void Simulation::restore(const std::vector<uint8_t>& in) {
+  std::vector<uint8_t>& buf = const_cast<std::vector<uint8_t>&>(in);  // Restore mode only reads
+  StateIO io(buf, StateIO::Restore);
+  serialize_state(state_, io);
+  for (auto& t : tools_) t->serialize(io);
+  if (io.position() != in.size()) throw std::runtime_error("Simulation::restore: saved state is longer than this simulation's");
+}
+
+uint64_t Simulation::hash() {
+  save(scratch_);
+  return fnv1a(scratch_.data(), scratch_.size());
 }
 
 }  // namespace ps

@@ -41,6 +41,11 @@ class FillingTool final : public Tool {
 
   const char* name() const override { return "filling"; }
   void boundary_conditions(const Model& m, State& s, double dt) override;
+  // live use (filling_live.cpp): FillRate, FillTo; every mutable field walked by serialize()
+  bool apply(const Command& c, const Model& m, const State& s, CommandRefusal& why) override;
+  bool accepts(CommandKind k) const override { return k == CommandKind::FillRate || k == CommandKind::FillTo; }
+  void serialize(StateIO& io) override;
+  void readout(ToolReadout& r, const Model& m, const State& s) const override;
 
   // --- live commands (between ticks, on the physics thread; from another thread push a Command
   // through engine/realtime/command_queue.h, applied by engine/realtime/command_apply.h) ---

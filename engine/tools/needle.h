@@ -164,6 +164,18 @@ class NeedleTool : public Tool {
   void after_step(const Model& m, State& s, double dt) override;
   // shaft, tip, depth marks every 10 mm, hub, seeds, force arrow (needle_draw.cpp)
   void draw(DrawSink& out, const Model& m, const State& s) const override;
+  // live use (needle_live.cpp): NeedleAim/Advance/Rotate/Release, FireGun, DepositSeed,
+  // SelectNeedle, SelectHole (needs attach_probe)
+  bool apply(const Command& c, const Model& m, const State& s, CommandRefusal& why) override;
+  bool accepts(CommandKind k) const override;
+  int find_item(const char* name) const override { return find(name); }
+  void serialize(StateIO& io) override;
+  void readout(ToolReadout& r, const Model& m, const State& s) const override;
+  int64_t events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out) const override;
+  // The probe whose template and guide SelectHole aims along (build_scene attaches it).
+  void attach_probe(const class ProbeTool* probe) { probe_ = probe; }
+  int active() const { return active_; }   // the selected needle (SelectNeedle), 0 at start
+  double hub_roll(int i) const;            // NeedleRotate [rad]
 
   int count() const { return static_cast<int>(needles_.size()); }
   int find(const std::string& name) const;
@@ -203,6 +215,8 @@ class NeedleTool : public Tool {
   std::unique_ptr<CouplingBudget> budget_;
   NeedleCouplingStats coupling_stats_;
   std::vector<std::string> warnings_;
+  int active_ = 0;
+  const ProbeTool* probe_ = nullptr;
 };
 
 // Builds the tool for the `needles:` section of a scenario (nullptr when it has no needle).

@@ -51,6 +51,27 @@ class NeedleEventRing {
     for (size_t i = 0; i < size_; ++i) out.push_back(buf_[(first + i) % buf_.size()]);
     return out;
   }
+  // the i-th oldest event still held (0 <= i < size())
+  const NeedleEvent& at(size_t i) const { return buf_[(head_ + buf_.size() - size_ + i) % buf_.size()]; }
+  // save / restore / hash of the ring (engine/util/state_io.h), field by field (no padding)
+  template <class IO>
+  void serialize(IO& io) {
+    for (NeedleEvent& e : buf_) {
+      io.pod(e.kind);
+      io.pod(e.needle);
+      io.pod(e.time);
+      io.vec(e.position);
+      io.pod(e.depth);
+      io.pod(e.force);
+      io.pod(e.component);
+      io.pod(e.node);
+      io.pod(e.value);
+    }
+    io.pod(head_);
+    io.pod(size_);
+    io.pod(dropped_);
+    io.pod(total_);
+  }
   size_t size() const { return size_; }
   int64_t dropped() const { return dropped_; }
   int64_t total() const { return total_; }

@@ -58,6 +58,10 @@ struct NeedleTool::Needle {
   // command
   bool interactive = false;
   Vec3 cmd_T = Vec3::Zero(), cmd_d = -Vec3::UnitZ(), cmd_V = Vec3::Zero();
+  double cmd_speed = 0.0;          // live advance (+) / retract (-) along cmd_d [m/s]
+  double cmd_t0 = 0.0;             // time cmd_T holds at; the tip moves at cmd_speed from it [s]
+  double hub_roll = 0.0;           // hub rotation about the shaft (shown, no mechanics) [rad]
+  bool deposit_request = false;    // live DepositSeed: release the next seed after this substep
   double fire_time = NAN;          // gun fire time [s] (NaN: not fired)
   // tube
   std::vector<int> tracked, next;  // capacity n

@@ -33,9 +33,10 @@ void script_depth(const NeedleSpec& s, double t, double& depth, double& rate) {
 void needle_command(const NeedleTool::Needle& nd, double t, Vec3& tip, Vec3& dir, Vec3& vel) {
   if (nd.interactive) {
     // the device holds the gun body; a fired gun extends the needle by the stroke
+    // a live advance/retract moves the commanded tip along the commanded direction
     dir = nd.cmd_d;
-    tip = nd.cmd_T + gun_stroke(nd, t) * dir;
-    vel = nd.cmd_V + gun_stroke_rate(nd, t) * dir;
+    tip = nd.cmd_T + (nd.cmd_speed * (t - nd.cmd_t0) + gun_stroke(nd, t)) * dir;
+    vel = nd.cmd_V + (nd.cmd_speed + gun_stroke_rate(nd, t)) * dir;
     return;
   }
   double depth = 0.0, rate = 0.0;

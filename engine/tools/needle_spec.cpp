@@ -82,7 +82,7 @@ void validate_needle_spec(const NeedleSpec& s) {
   }
   if (s.gun) {
     const BiopsyGunSpec& g = *s.gun;
-    if (!(g.fire_time >= 0.0)) fail("gun.fire_s", "must be >= 0");
+    if (!(g.fire_time >= 0.0) && !std::isnan(g.fire_time)) fail("gun.fire_s", "must be >= 0 (or absent: fired by command)");
     pos(g.stroke, "gun.stroke_mm");
     if (g.stroke > 0.05) fail("gun.stroke_mm", "above 50 mm");
     pos(g.duration, "gun.duration_ms");

@@ -22,7 +22,7 @@ struct NeedleScriptPoint {
 // Spring-loaded biopsy gun: on firing, the commanded depth advances by `stroke` within
 // `duration` on top of the script; the core is taken `settle` after the stroke ends.
 struct BiopsyGunSpec {
-  double fire_time = 0.0;          // [s]
+  double fire_time = 0.0;          // [s]; NaN: armed, fired by a live FireGun command only
   double stroke = 22e-3;           // [m]
   double duration = 0.015;         // [s] (real guns: ~10-30 ms)
   double settle = 0.005;           // [s]

@@ -1,4 +1,5 @@
 // `needles:` section of a scenario file -> NeedleSetSpec (mm, g, ms in the file; SI here).
+#include <cmath>
 #include "engine/tools/needle_spec_yaml.h"
 
 namespace ps {
@@ -71,7 +72,8 @@ NeedleSpec parse_needle(const YamlReader& r, const YAML::Node& v, int index) {
     const std::string kg = k + ".gun";
     r.only_keys(g, kg, {"fire_s", "stroke_mm", "duration_ms", "settle_ms", "notch_offset_mm", "notch_length_mm", "notch_radius_mm"});
     BiopsyGunSpec gun = s.gun ? *s.gun : BiopsyGunSpec{};
-    gun.fire_time = r.non_negative(r.require(g, kg, "fire_s"), kg + ".fire_s");
+    // no fire_s: the gun is armed and fires on a live command (FireGun) only
+    gun.fire_time = g["fire_s"] ? r.non_negative(g["fire_s"], kg + ".fire_s") : NAN;
     if (g["stroke_mm"]) gun.stroke = r.positive(g["stroke_mm"], kg + ".stroke_mm") * kMm;
     if (g["duration_ms"]) gun.duration = r.positive(g["duration_ms"], kg + ".duration_ms") * 1e-3;
     if (g["settle_ms"]) gun.settle = r.non_negative(g["settle_ms"], kg + ".settle_ms") * 1e-3;

@@ -27,10 +27,19 @@ void update_seeds(NeedleTool::Needle& nd, const Model& m, const State& s, Needle
   const double t_tip = plan_depth(nd);
   nd.deepest = std::max(nd.deepest, t_tip);
   const bool retracting = nd.V.dot(nd.d) < -1e-5;
-  if (!retracting) return;
+  // a live DepositSeed command releases the next seed where the tip is, whatever the motion
+  const bool requested = nd.deposit_request;
+  nd.deposit_request = false;
+  if (!retracting && !requested) return;
+  bool request_left = requested;
   for (size_t k = 0; k < nd.seeds.size(); ++k) {
     SeedState& sd = nd.seeds[k];
-    if (sd.deposited || t_tip > sd.depth || nd.deepest < sd.depth - kSeedArm) continue;
+    if (sd.deposited) continue;
+    if (request_left) {
+      request_left = false;
+    } else if (!retracting || t_tip > sd.depth || nd.deepest < sd.depth - kSeedArm) {
+      continue;
+    }
     sd.deposited = true;
     sd.time = s.time;
     sd.at = nd.T;

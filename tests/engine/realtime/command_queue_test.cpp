@@ -90,7 +90,7 @@ TEST(CommandQueue, ProducerThreadGivesTheSameStateAsOneThread) {
   uint64_t reference;
   {
     Scene s = make_scene();
-    CommandApplier apply(*s.m, s.probe, s.filling);
+    CommandApplier apply(*s.sim);
     const std::vector<Command> cmds = script(*s.m);
     size_t next = 0;
     for (int64_t k = 0; k < kTicks; ++k) {
@@ -102,7 +102,7 @@ TEST(CommandQueue, ProducerThreadGivesTheSameStateAsOneThread) {
   }
   // a producer thread through a 4-slot ring (it fills up and retries)
   Scene s = make_scene();
-  CommandApplier apply(*s.m, s.probe, s.filling);
+  CommandApplier apply(*s.sim);
   const std::vector<Command> cmds = script(*s.m);
   CommandQueue q(4);
   std::atomic<bool> done{false};
@@ -134,7 +134,7 @@ TEST(CommandQueue, ProducerThreadGivesTheSameStateAsOneThread) {
 
 TEST(CommandQueue, LateAndRefusedCommandsAreCountedAndReportedNotFatal) {
   Scene s = make_scene();
-  CommandApplier apply(*s.m, s.probe, s.filling);
+  CommandApplier apply(*s.sim);
   CommandQueue q(8);
   ASSERT_TRUE(q.push(probe_move(0, 0.001, 60 * 3.14159265358979 / 180, 0.01)));  // tilt beyond 45 deg
   Command bad;
@@ -147,9 +147,10 @@ TEST(CommandQueue, LateAndRefusedCommandsAreCountedAndReportedNotFatal) {
   ASSERT_TRUE(q.push(past));  // stamped 0, applied at tick 3: late
   EXPECT_EQ(apply.apply_due(q, 0), 2);
   EXPECT_EQ(apply.refused(), 2);
-  ASSERT_EQ(apply.reports().size(), 2u);
-  EXPECT_NE(apply.reports()[0].find("45 degrees"), std::string::npos) << apply.reports()[0];
-  EXPECT_NE(apply.reports()[1].find("not a filled organ"), std::string::npos) << apply.reports()[1];
+  ASSERT_EQ(apply.refusals().size(), 2);
+  EXPECT_NE(apply.refusals().at(0).describe().find("45 degrees"), std::string::npos) << apply.refusals().at(0).describe();
+  EXPECT_NE(apply.refusals().at(1).describe().find("not a filled organ"), std::string::npos) << apply.refusals().at(1).describe();
+  EXPECT_EQ(apply.refusals().at(0).kind, CommandKind::ProbeMove);
   for (int k = 0; k < 3; ++k) ASSERT_TRUE(s.sim->tick());
   EXPECT_EQ(apply.apply_due(q, 3), 2);
   EXPECT_EQ(apply.late(), 2);

@@ -11,6 +11,7 @@
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/run.h"
+#include "engine/sim/scene.h"
 #include "engine/step/simulation.h"
 #include "engine/tools/filling.h"
 #include "engine/tools/needle.h"
@@ -20,12 +21,9 @@ namespace ps {
 namespace {
 
 TEST(DefaultScene, NoNaNOrBlowUpOver100kSubsteps) {
-  const ScenarioSpec spec = parse_scenario_file(std::string(PROSTATESIM_SOURCE_DIR) + "/config/biopsy.yaml");
-  const auto model = compile_scenario(spec);
-  Simulation sim(model);
-  if (auto t = make_needle_tool(model, spec.needles)) sim.add_tool(std::move(t));
-  if (auto t = make_probe_tool(spec, *model)) sim.add_tool(std::move(t));
-  if (auto t = make_filling_tool(spec, *model)) sim.add_tool(std::move(t));
+  Scene scene = load_scene(std::string(PROSTATESIM_SOURCE_DIR) + "/config/biopsy.yaml");
+  const auto model = scene.model;
+  Simulation& sim = *scene.sim;
   ASSERT_FALSE(sim.tools().empty()) << "the default scene should carry its instruments";
 
   constexpr int64_t kSubsteps = 100000;

@@ -1,0 +1,146 @@
+// `prostatesim run SCENARIO [--script F] [--record FILE] [--headless] [--duration S] [--hash]
+//                           [--factor X] [--unpaced]`
+// Runs the scene on the real-time physics thread (engine/realtime/physics_loop.h). With a
+// registered window frontend and a display (and no --headless) the trainee window drives it;
+// otherwise it runs headless for --duration (default: the script's, else the scenario's).
+// --record writes every applied command with its tick (engine/realtime/recording.h); at the end
+// the state hash is printed (16 hex digits; the same as `replay --hash` of the recording).
+// Bad input (scenario, script, options) exits 2 before anything is written.
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+
+#include "app/commands.h"
+#include "app/run_session.h"
+#include "haptics/spacemouse.h"
+
+namespace ps::app {
+
+namespace {
+WindowFrontend g_window = nullptr;
+
+struct RunArgs {
+  std::string scenario, script, record, device = "auto";
+  bool headless = false, hash_only = false, unpaced = false;
+  double duration = -1.0, factor = 1.0;
+};
+
+bool have_display() {
+  const char* d = std::getenv("DISPLAY");
+  const char* w = std::getenv("WAYLAND_DISPLAY");
+  return (d && *d) || (w && *w);
+}
+}  // namespace
+
+void register_window_frontend(WindowFrontend f) { g_window = f; }
+WindowFrontend window_frontend() { return g_window; }
+
+int run_live(const RunArgs& a) {
+  Scene scene = load_scene(a.scenario);
+  const Model& m = *scene.model;
+  std::unique_ptr<Script> script;
+  std::unique_ptr<CommandPlayer> player;
+  if (!a.script.empty()) {
+    script = std::make_unique<Script>(parse_script_file(a.script));
+    player = std::make_unique<CommandPlayer>(script_commands(*script, scene));
+  }
+  const bool windowed = g_window && !a.headless && have_display();
+  double duration = a.duration;
+  if (duration <= 0 && !windowed) duration = script && script->duration > 0 ? script->duration : m.duration;
+  const int64_t end_tick = duration > 0 ? static_cast<int64_t>(std::llround(duration / m.dt)) : -1;
+
+  std::unique_ptr<RecordingWriter> rec;
+  if (!a.record.empty()) rec = std::make_unique<RecordingWriter>(a.record, RecordingHeader{scene.spec.name, scene.content_hash, m.dt, m.substeps});
+
+  // the device that drives the active needle: a script, the SpaceMouse (when spacenavd runs), or
+  // the window's mouse and keyboard
+  std::unique_ptr<haptics::SpaceMouseDevice> spacemouse;
+  std::unique_ptr<haptics::MouseKeyboardDevice> mouse;
+  std::unique_ptr<haptics::DeviceSource> device;
+  if (a.device == "spacemouse" || (a.device == "auto" && !player && windowed)) {
+    auto sm = std::make_unique<haptics::SpaceMouseDevice>();
+    std::string why;
+    if (sm->open(why)) spacemouse = std::move(sm);
+    else if (a.device == "spacemouse") spdlog::warn("{}", why);
+  }
+  if (spacemouse) device = std::make_unique<haptics::DeviceSource>(scene, *spacemouse);
+  else if (windowed && !player && a.device != "none") {
+    mouse = std::make_unique<haptics::MouseKeyboardDevice>();
+    device = std::make_unique<haptics::DeviceSource>(scene, *mouse);
+  }
+
+  LoopOptions opt;
+  opt.factor = a.factor;
+  opt.stop_at_tick = end_tick;
+  opt.as_fast_as_possible = a.unpaced;
+  opt.log_timing = true;
+  PhysicsLoop loop(*scene.sim, opt);
+  if (player) loop.add_source(player.get());
+  if (device) loop.add_source(device.get());
+  if (rec) loop.applier().set_observer(rec.get());
+  if (!a.hash_only)
+    std::printf("%s: %d particles, tick %.3g ms x %d substeps, %s%s\n", scene.spec.name.c_str(), m.particle_count(), m.dt * 1e3,
+                m.substeps, windowed ? "window" : "headless", end_tick >= 0 ? (", " + std::to_string(end_tick) + " ticks").c_str() : "");
+  loop.start();
+  int rc = kExitOk;
+  if (windowed) {
+    RunSession session{scene, loop, script.get(), end_tick, a.scenario, mouse.get(), device.get()};
+    rc = g_window(session);
+  } else {
+    loop.wait_for_tick(end_tick);
+  }
+  loop.stop();
+  const LoopTiming t = loop.timing();
+  const int64_t ticks = loop.tick();
+  const uint64_t h = scene.sim->hash();
+  if (rec) {
+    rec->finish(ticks, h);
+    if (rec->dropped() > 0) {
+      spdlog::error("error: {} commands could not be recorded (writer ring full): {} is incomplete", rec->dropped(), a.record);
+      rc = kExitFault;
+    }
+  }
+  if (device && device->disconnected()) spdlog::warn("{}", device->status());
+  const auto& rr = loop.applier().refusals();
+  for (int i = 0; i < rr.size(); ++i) spdlog::warn("{}", rr.at(i).describe());
+  if (a.hash_only) {
+    std::printf("%s\n", hex16(h).c_str());
+  } else {
+    std::printf("%lld ticks, %.4g s simulated; last window: %.0f ticks/s, real-time factor %.3f%s, tick p50 %.3f ms p99 %.3f ms, "
+                "%lld overruns; %lld commands applied, %lld refused\n",
+                static_cast<long long>(ticks), scene.sim->state().time, t.achieved_hz, t.realtime_factor, t.reanchors ? " (slow motion)" : "",
+                t.tick_p50_ms, t.tick_p99_ms, static_cast<long long>(t.overruns), static_cast<long long>(loop.applier().applied()),
+                static_cast<long long>(loop.applier().refused()));
+    if (rec) std::printf("recorded %s\n", a.record.c_str());
+    std::printf("state hash %s\n", hex16(h).c_str());
+  }
+  if (loop.faulted()) {
+    spdlog::error("error: simulation stopped: {}", scene.sim->state().fault.describe(m));
+    return kExitFault;
+  }
+  return rc;
+}
+
+void add_run_command(CLI::App& app, Runner& run) {
+  auto a = std::make_shared<RunArgs>();
+  CLI::App* sub = app.add_subcommand("run", "run a scenario live on the real-time physics thread (window, or headless)");
+  sub->add_option("scenario", a->scenario, "scenario YAML file")->required()->check(CLI::ExistingFile);
+  sub->add_option("--script", a->script, "scripted device: YAML timeline (config/scripts/*.yaml)")->check(CLI::ExistingFile);
+  sub->add_option("--record", a->record, "record every applied command with its tick to FILE");
+  sub->add_flag("--headless", a->headless, "no window even when one is available");
+  sub->add_option("--device", a->device,
+                  "what drives the needle without a script: auto (SpaceMouse if spacenavd runs, else mouse+keyboard), spacemouse, mouse, none")
+      ->check(CLI::IsMember({"auto", "spacemouse", "mouse", "none"}))
+      ->capture_default_str();
+  sub->add_option("--duration", a->duration, "simulated time [s] (headless default: the script's, else the scenario's)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--factor", a->factor, "slow motion: simulated seconds per wall second (default 1 = real time)")
+      ->check(CLI::PositiveNumber);
+  sub->add_flag("--unpaced", a->unpaced, "do not keep real time: tick as fast as possible");
+  sub->add_flag("--hash", a->hash_only, "print only the final state hash (16 hex digits)");
+  sub->callback([a, &run] { run = [a] { return run_live(*a); }; });
+}
+
+}  // namespace ps::app

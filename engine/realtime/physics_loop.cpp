@@ -1,0 +1,202 @@
+#include "engine/realtime/physics_loop.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+
+namespace ps {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double wall_s() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
+
+// Times each stage of a sampled tick (the clock lives here, not in engine/step).
+class StageTimer final : public StageProbe {
+ public:
+  explicit StageTimer(std::array<double, kStageCount>& acc) : acc_(acc) {}
+  void begin(int) override { t0_ = Clock::now(); }
+  void end(int stage) override {
+    if (stage >= 0 && stage < kStageCount) acc_[stage] += std::chrono::duration<double, std::milli>(Clock::now() - t0_).count();
+  }
+
+ private:
+  std::array<double, kStageCount>& acc_;
+  Clock::time_point t0_;
+};
+
+// p-quantile of the first n values (partial sort of a stack copy: no allocation)
+template <size_t N>
+double quantile(const std::array<float, N>& v, int n, double p) {
+  if (n <= 0) return 0.0;
+  std::array<float, N> c;
+  std::copy(v.begin(), v.begin() + n, c.begin());
+  const int k = std::min(n - 1, static_cast<int>(p * (n - 1) + 0.5));
+  std::nth_element(c.begin(), c.begin() + k, c.begin() + n);
+  return c[k];
+}
+}  // namespace
+
+PhysicsLoop::PhysicsLoop(Simulation& sim, LoopOptions opt) : opt_(opt), runner_(sim) {
+  set_factor(opt.factor);
+  paused_.store(opt.start_paused);
+  // size the snapshot buffers once (positions, tools, events) so publishing does not allocate
+  for (int i = 0; i < 3; ++i) {
+    Snapshot& s = snaps_.raw(i);
+    s.x.reserve(3 * sim.state().x.size());
+    s.tools.reserve(sim.tools().size());
+    s.events.reserve(256);
+  }
+}
+
+PhysicsLoop::~PhysicsLoop() { stop(); }
+
+void PhysicsLoop::set_factor(double f) {
+  if (!(f > 0.0)) f = 1.0;
+  factor_.store(std::clamp(f, 1e-3, 100.0), std::memory_order_relaxed);
+}
+
+void PhysicsLoop::start() {
+  if (running_.load()) return;
+  stop_.store(false);
+  running_.store(true, std::memory_order_release);
+  // the first snapshot (tick 0) is there before the thread runs
+  runner_.fill_snapshot(snaps_.back());
+  snaps_.publish();
+  thread_ = std::thread([this] { thread_main(); });
+}
+
+void PhysicsLoop::stop() {
+  stop_.store(true, std::memory_order_release);
+  if (thread_.joinable()) thread_.join();
+  running_.store(false, std::memory_order_release);
+}
+
+void PhysicsLoop::wait_for_tick(int64_t t) const {
+  while (tick() < t && !faulted() && running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+}
+
+LoopTiming PhysicsLoop::timing() const {
+  std::lock_guard<std::mutex> g(timing_mu_);
+  return timing_;
+}
+
+void PhysicsLoop::publish() {
+  const auto t0 = Clock::now();
+  // events of a snapshot the reader skipped are kept and the new ones appended
+  runner_.fill_snapshot(snaps_.back(), skipped_unread_);
+  skipped_unread_ = snaps_.publish();
+  publish_acc_ += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  ++publish_n_;
+}
+
+void PhysicsLoop::update_window(double now, bool force) {
+  const double span = now - window_start_;
+  if (!force && span < 1.0) return;
+  std::unique_lock<std::mutex> g(timing_mu_, std::try_to_lock);
+  if (!g.owns_lock()) return;  // a reader holds it: try again next tick, never wait
+  LoopTiming& t = timing_;
+  const Simulation& sim = runner_.sim();
+  t.ticks = runner_.tick();
+  t.sim_time = sim.state().time;
+  const int64_t dticks = runner_.tick() - window_tick0_;
+  t.achieved_hz = span > 0 ? dticks / span : 0.0;
+  t.realtime_factor = span > 0 ? (sim.state().time - window_sim0_) / span : 0.0;
+  t.target_factor = factor();
+  t.tick_p50_ms = quantile(tick_ms_, window_n_, 0.5);
+  t.tick_p99_ms = quantile(tick_ms_, window_n_, 0.99);
+  t.tick_max_ms = quantile(tick_ms_, window_n_, 1.0);
+  t.jitter_ms = window_n_ > 1 ? quantile(interval_ms_, window_n_, 0.99) - quantile(interval_ms_, window_n_, 0.5) : 0.0;
+  t.overruns = overruns_;
+  t.reanchors = reanchors_;
+  t.slow_motion = lagging_;
+  t.publish_ms = publish_n_ ? publish_acc_ / publish_n_ : 0.0;
+  for (int i = 0; i < kStageCount; ++i) t.stage_ms[i] = stage_samples_ ? stage_acc_[i] / stage_samples_ : 0.0;
+  t.commands_applied = runner_.applier().applied();
+  t.commands_refused = runner_.applier().refused();
+  t.commands_late = runner_.applier().late();
+  t.paused = paused();
+  t.faulted = faulted();
+  if (opt_.log_timing && dticks > 0)
+    spdlog::info("physics: tick {} t={:.3f} s, {:.0f} ticks/s, real-time factor {:.3f}{} (target {:.3g}), tick p50 {:.3f} ms p99 {:.3f} ms, "
+                 "{} overruns, publish {:.3f} ms",
+                 t.ticks, t.sim_time, t.achieved_hz, t.realtime_factor, lagging_ ? " SLOW MOTION" : "", t.target_factor, t.tick_p50_ms,
+                 t.tick_p99_ms, t.overruns, t.publish_ms);
+  window_start_ = now;
+  window_tick0_ = runner_.tick();
+  window_sim0_ = sim.state().time;
+  window_n_ = 0;
+  publish_acc_ = 0.0;
+  publish_n_ = 0;
+  lagging_ = false;
+}
+
+void PhysicsLoop::thread_main() {
+  const double dt = runner_.sim().model().dt;
+  double anchor_wall = wall_s();
+  int64_t anchor_tick = runner_.tick();
+  double anchor_factor = factor();
+  window_start_ = anchor_wall;
+  window_tick0_ = runner_.tick();
+  window_sim0_ = runner_.sim().state().time;
+  StageTimer stage_timer(stage_acc_);
+  while (!stop_.load(std::memory_order_acquire)) {
+    if (reset_requested_.exchange(false, std::memory_order_acq_rel)) {
+      runner_.reset();
+      tick_.store(0, std::memory_order_release);
+      faulted_.store(false, std::memory_order_release);
+      skipped_unread_ = false;
+      publish();
+      anchor_wall = wall_s();
+      anchor_tick = 0;
+    }
+    const bool stepping = step_requests_.load(std::memory_order_acquire) > 0;
+    const bool at_stop = opt_.stop_at_tick >= 0 && runner_.tick() >= opt_.stop_at_tick;
+    if (at_stop && !paused()) pause();
+    if ((paused() && !stepping) || faulted()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      anchor_wall = wall_s();  // resume in step with the clock from here
+      anchor_tick = runner_.tick();
+      update_window(wall_s(), false);
+      continue;
+    }
+    if (stepping) step_requests_.fetch_sub(1, std::memory_order_acq_rel);
+    const double f = factor();
+    if (f != anchor_factor) {  // a new slow-motion factor re-anchors (no jump)
+      anchor_wall = wall_s();
+      anchor_tick = runner_.tick();
+      anchor_factor = f;
+    }
+    const double start = wall_s();
+    if (last_tick_start_ >= 0 && window_n_ < kWindow) interval_ms_[window_n_] = static_cast<float>((start - last_tick_start_) * 1e3);
+    last_tick_start_ = start;
+    const bool sample = (runner_.tick() & 31) == 0;
+    if (sample) ++stage_samples_;
+    const bool ok = runner_.step(sample ? &stage_timer : nullptr);
+    const double done = wall_s();
+    const double period = dt / f;
+    if (window_n_ < kWindow) tick_ms_[window_n_++] = static_cast<float>((done - start) * 1e3);
+    if (done - start > period) ++overruns_;
+    tick_.store(runner_.tick(), std::memory_order_release);
+    if (!ok) faulted_.store(true, std::memory_order_release);
+    publish();
+    update_window(wall_s(), false);
+    if (opt_.as_fast_as_possible || paused()) continue;
+    const double due = anchor_wall + (runner_.tick() - anchor_tick) * period;
+    const double now = wall_s();
+    if (now > due + opt_.max_lag) {
+      // heavier than real time at this factor: run on in slow motion from here, never catch up
+      anchor_wall = now;
+      anchor_tick = runner_.tick();
+      ++reanchors_;
+      lagging_ = true;
+    } else if (due > now) {
+      std::this_thread::sleep_until(Clock::time_point(std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(due))));
+    } else if (now > due + 2 * period) {
+      lagging_ = true;
+    }
+  }
+  update_window(wall_s(), true);
+}
+
+}  // namespace ps

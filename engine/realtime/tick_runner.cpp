@@ -1,0 +1,79 @@
+#include "engine/realtime/tick_runner.h"
+
+#include <cstdio>
+#include <cstring>
+
+namespace ps {
+
+TickRunner::TickRunner(Simulation& sim, size_t queue_capacity)
+    : sim_(sim), queue_(queue_capacity), applier_(sim), event_cursor_(sim.tools().size(), 0) {
+  sim_.save(initial_);
+}
+
+bool TickRunner::step(StageProbe* probe) {
+  if (faulted_) return false;
+  for (CommandSource* s : sources_) s->poll(tick_, sim_, applier_);
+  applier_.apply_due(queue_, tick_);
+  if (!sim_.tick(probe)) {
+    faulted_ = true;
+    return false;
+  }
+  ++tick_;
+  for (CommandSource* s : sources_) s->after_tick(tick_, sim_);
+  return true;
+}
+
+void TickRunner::reset() {
+  sim_.restore(initial_);
+  tick_ = 0;
+  faulted_ = false;
+  Command c;
+  while (queue_.pop(c)) {
+  }
+  for (CommandSource* s : sources_) s->rewind();
+  std::fill(event_cursor_.begin(), event_cursor_.end(), 0);
+}
+
+void TickRunner::fill_snapshot(Snapshot& out, bool keep_events, bool with_hash) {
+  const Model& m = sim_.model();
+  const State& s = sim_.state();
+  out.tick = tick_;
+  out.time = s.time;
+  out.x.resize(3 * s.x.size());
+  for (size_t i = 0; i < s.x.size(); ++i) {
+    out.x[3 * i] = static_cast<float>(s.x[i].x());
+    out.x[3 * i + 1] = static_cast<float>(s.x[i].y());
+    out.x[3 * i + 2] = static_cast<float>(s.x[i].z());
+  }
+  out.draw.clear();
+  const auto& tools = sim_.tools();
+  out.tools.resize(tools.size());
+  if (!keep_events) out.events.clear();
+  for (size_t i = 0; i < tools.size(); ++i) {
+    tools[i]->draw(out.draw, m, s);
+    ToolReadout& r = out.tools[i];
+    r = ToolReadout{};
+    std::snprintf(r.name.data(), r.name.size(), "%s", tools[i]->name());
+    tools[i]->readout(r, m, s);
+    event_cursor_[i] = tools[i]->events_since(event_cursor_[i], static_cast<int>(i), out.events);
+  }
+  // refused commands are events too (the trainee sees why nothing happened)
+  const RefusalRing& rr = applier_.refusals();
+  const int64_t first = std::max(refusal_cursor_, rr.total() - rr.size());
+  for (int64_t k = first; k < rr.total(); ++k) {
+    const RefusalReport& r = rr.at(static_cast<int>(rr.size() - (rr.total() - k)));
+    SnapshotEvent e;
+    e.time = s.time;
+    e.tool = r.tool;
+    e.kind = kSnapshotEventRefused;
+    std::snprintf(e.text.data(), e.text.size(), "%s refused: %s", command_kind_name(r.kind), r.text);
+    out.events.push_back(e);
+  }
+  refusal_cursor_ = rr.total();
+  out.state_hash = with_hash ? sim_.hash() : 0;
+  out.faulted = faulted_ || s.fault.kind != StepFault::None;
+  out.fault.fill(0);
+  if (out.faulted) std::snprintf(out.fault.data(), out.fault.size(), "%s", s.fault.describe(m).c_str());
+}
+
+}  // namespace ps

@@ -1,0 +1,34 @@
+// One way to make a runnable scene from a scenario: the compiled Model, the Simulation and its
+// instruments in a fixed order (needles, probe, filling: tool order is part of the state's bits
+// and of the command addresses in recordings). Used by the CLI, the app, benchmarks and tests.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "engine/scenario/compile.h"
+#include "engine/scenario/scenario_spec.h"
+#include "engine/step/simulation.h"
+
+namespace ps {
+
+struct Scene {
+  ScenarioSpec spec;
+  std::shared_ptr<const Model> model;
+  std::unique_ptr<Simulation> sim;
+  CompileReport report;
+  uint64_t content_hash = 0;       // FNV-1a of the scenario file's bytes (0 when built from a spec)
+  int needle_tool = -1;            // index in sim->tools(), -1 when absent
+  int probe_tool = -1;
+  int filling_tool = -1;
+};
+
+// Compiles `spec` and adds its instruments (each only when its section is present). Throws
+// InputError / CompileError on bad input.
+Scene build_scene(const ScenarioSpec& spec);
+// Parses the file, then build_scene; content_hash is set from the file's bytes.
+Scene load_scene(const std::string& path);
+// Hash of a file's bytes (FNV-1a 64); throws InputError when unreadable.
+uint64_t file_content_hash(const std::string& path);
+
+}  // namespace ps

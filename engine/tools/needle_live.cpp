@@ -1,0 +1,327 @@
+// The needle tool's live side (between ticks, on the physics thread): commands from devices,
+// scripts and recordings (engine/realtime/command.h), the read-out and events a snapshot
+// carries, and the walk of every mutable field (save / restore / hash, engine/util/state_io.h).
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "engine/tools/needle_internal.h"
+#include "engine/tools/probe.h"
+#include "engine/util/error.h"
+
+namespace ps {
+
+namespace {
+
+void anchor_io(AffineAnchor& a, StateIO& io) {
+  io.pod(a.count);
+  io.pod(a.idx);
+  io.pod(a.w);
+  io.pod(a.nbeta);
+  for (AnchorTriplet& t : a.beta) {
+    io.pod(t.i);
+    io.pod(t.j);
+    io.pod(t.k);
+    io.pod(t.b);
+  }
+  io.vec(a.offset);
+  io.pod(a.rotational);
+}
+
+void readout_io(NeedleReadout& r, StateIO& io) {
+  io.vec(r.tip);
+  io.vec(r.direction);
+  io.vec(r.velocity);
+  io.vec(r.command_tip);
+  io.pod(r.plan_depth);
+  io.pod(r.depth);
+  io.pod(r.contacted);
+  io.vec(r.tissue_force);
+  io.vec(r.coupling_force);
+  io.pod(r.axial_force);
+  io.pod(r.axial_force_tick);
+  io.pod(r.press_force);
+  io.pod(r.cutting_force);
+  io.pod(r.friction_force);
+  io.pod(r.engaged_nodes);
+  io.pod(r.stuck_nodes);
+  io.pod(r.phase);
+}
+
+// The commanded tip now (so an advance or a new speed starts where the command is).
+Vec3 commanded_tip(const NeedleTool::Needle& nd, double t) {
+  Vec3 tip, dir, vel;
+  needle_command(nd, t, tip, dir, vel);
+  return tip - gun_stroke(nd, t) * dir;  // the gun's stroke is added on top again
+}
+
+}  // namespace
+
+bool NeedleTool::accepts(CommandKind k) const {
+  switch (k) {
+    case CommandKind::NeedleAim:
+    case CommandKind::NeedleAdvance:
+    case CommandKind::NeedleRotate:
+    case CommandKind::NeedleRelease:
+    case CommandKind::FireGun:
+    case CommandKind::DepositSeed:
+    case CommandKind::SelectNeedle:
+    case CommandKind::SelectHole:
+      return true;
+    default:
+      return false;
+  }
+}
+
+double NeedleTool::hub_roll(int i) const { return needles_.at(i)->hub_roll; }
+
+bool NeedleTool::apply(const Command& c, const Model& m, const State& s, CommandRefusal& why) {
+  char msg[120];
+  const int i = c.item < 0 ? active_ : c.item;
+  if (i < 0 || i >= count()) {
+    std::snprintf(msg, sizeof msg, "needle %d does not exist (%d needles)", i, count());
+    why.set(msg);
+    return false;
+  }
+  Needle& nd = *needles_[i];
+  const double now = s.time;
+  switch (c.kind) {
+    case CommandKind::NeedleAim: {
+      const Vec3 tip(c.pos[0], c.pos[1], c.pos[2]);
+      const Vec3 dir(c.dir[0], c.dir[1], c.dir[2]);
+      if (!tip.allFinite() || !dir.allFinite() || !(dir.norm() > 1e-9) || !std::isfinite(c.value)) {
+        why.set("needle aim needs a finite tip, speed and a non-zero direction");
+        return false;
+      }
+      nd.interactive = true;
+      nd.cmd_T = tip;
+      nd.cmd_d = dir.normalized();
+      nd.cmd_V = Vec3::Zero();
+      nd.cmd_speed = c.value;
+      nd.cmd_t0 = now;
+      return true;
+    }
+    case CommandKind::NeedleAdvance: {
+      if (!std::isfinite(c.value)) {
+        why.set("needle advance speed is not finite");
+        return false;
+      }
+      if (!nd.interactive) {  // take over from the script where it is now
+        Vec3 tip, dir, vel;
+        needle_command(nd, now, tip, dir, vel);
+        nd.cmd_T = tip - gun_stroke(nd, now) * dir;
+        nd.cmd_d = dir;
+        nd.cmd_V = Vec3::Zero();
+        nd.interactive = true;
+      } else {
+        nd.cmd_T = commanded_tip(nd, now);
+      }
+      nd.cmd_speed = c.value;
+      nd.cmd_t0 = now;
+      return true;
+    }
+    case CommandKind::NeedleRotate:
+      if (!std::isfinite(c.value)) {
+        why.set("needle rotation is not finite");
+        return false;
+      }
+      nd.hub_roll = c.value;
+      return true;
+    case CommandKind::NeedleRelease:
+      nd.interactive = false;
+      nd.cmd_speed = 0.0;
+      return true;
+    case CommandKind::FireGun:
+      if (!nd.spec.gun) {
+        std::snprintf(msg, sizeof msg, "needle '%.60s' has no biopsy gun", nd.spec.name.c_str());
+        why.set(msg);
+        return false;
+      }
+      if (!std::isnan(nd.fire_time) && now < nd.fire_time + nd.spec.gun->duration + nd.spec.gun->settle) {
+        why.set("the biopsy gun is already firing");
+        return false;
+      }
+      nd.fire_time = now;
+      nd.core.taken = false;
+      return true;
+    case CommandKind::DepositSeed: {
+      bool left = false;
+      for (const SeedState& sd : nd.seeds) left |= !sd.deposited;
+      if (!left) {
+        std::snprintf(msg, sizeof msg, "needle '%.60s' has no seed left", nd.spec.name.c_str());
+        why.set(msg);
+        return false;
+      }
+      nd.deposit_request = true;
+      return true;
+    }
+    case CommandKind::SelectNeedle:
+      active_ = i;
+      return true;
+    case CommandKind::SelectHole: {
+      if (!probe_) {
+        why.set("no probe in the scene: no template to select a hole of");
+        return false;
+      }
+      const ProbeSpec& ps = probe_->spec();
+      if (c.col < 0 || c.row < 0 || c.col >= ps.template_cols || c.row >= ps.template_rows) {
+        std::snprintf(msg, sizeof msg, "template hole (%d, %d) outside the %d x %d grid", c.col, c.row,
+                      ps.template_cols, ps.template_rows);
+        why.set(msg);
+        return false;
+      }
+      const NeedlePath p = probe_->template_hole(c.col, c.row);
+      nd.interactive = true;
+      nd.cmd_T = p.entry;
+      nd.cmd_d = p.direction.normalized();
+      nd.cmd_V = Vec3::Zero();
+      nd.cmd_speed = 0.0;
+      nd.cmd_t0 = now;
+      active_ = i;
+      return true;
+    }
+    default:
+      why.set("not a needle command");
+      return false;
+  }
+}
+
+void NeedleTool::serialize(StateIO& io) {
+  io.pod(active_);
+  for (auto& p : needles_) {
+    Needle& nd = *p;
+    io.pod(nd.seed_counter);
+    io.vec(nd.T);
+    io.vec(nd.V);
+    io.vec(nd.d);
+    io.pod(nd.v_cut);
+    io.pod(nd.interactive);
+    io.vec(nd.cmd_T);
+    io.vec(nd.cmd_d);
+    io.vec(nd.cmd_V);
+    io.pod(nd.cmd_speed);
+    io.pod(nd.cmd_t0);
+    io.pod(nd.hub_roll);
+    io.pod(nd.deposit_request);
+    io.pod(nd.fire_time);
+    io.array(nd.tracked, true);
+    io.array(nd.next, true);
+    io.array(nd.mark);
+    io.array(nd.entered);
+    io.array(nd.zone_idx);
+    io.array(nd.zone_dist);
+    io.array(nd.zone_n);
+    io.pod(nd.cut_idx);
+    io.pod(nd.cut_dist);
+    io.pod(nd.cut_n);
+    io.pod(nd.press_n);
+    io.pod(nd.press_face);
+    io.pod(nd.press_idx);
+    io.pod(nd.press_w);
+    io.pod(nd.press_a);
+    io.pod(nd.press_component);
+    io.array(nd.face_epoch);
+    io.array(nd.face_breached);
+    io.pod(nd.press_face_id);
+    io.pod(nd.epoch);
+    for (AffineAnchor& a : nd.anchors) anchor_io(a, io);
+    io.array(nd.anchor_c);
+    io.array(nd.anchor_csum);
+    io.array(nd.stick_scale);
+    io.array(nd.stick_scale_used);
+    io.array(nd.stuck);
+    io.array(nd.reported);
+    io.array(nd.pending);
+    io.pod(nd.debounce);
+    io.pod(nd.contacted);
+    io.pod(nd.contact_axial);
+    io.pod(nd.peak_force);
+    io.pod(nd.bone_touch);
+    io.pod(nd.clamping);
+    io.pod(nd.phase_blocked);
+    readout_io(nd.ro, io);
+    io.pod(nd.tick_sum);
+    io.pod(nd.tick_n);
+    io.pod(nd.stats.tracked);
+    io.pod(nd.stats.visited);
+    io.pod(nd.stats.plan_checked);
+    for (SeedState& sd : nd.seeds) {
+      io.pod(sd.depth);
+      io.vec(sd.planned);
+      io.pod(sd.deposited);
+      io.pod(sd.embedded);
+      io.pod(sd.time);
+      io.vec(sd.at);
+      io.vec(sd.current);
+      anchor_io(sd.anchor, io);
+    }
+    io.pod(nd.deepest);
+    CoreState& c = nd.core;
+    io.pod(c.taken);
+    io.pod(c.time);
+    io.array(c.particles, true);
+    io.array(c.per_component);
+    io.array(c.per_tag);
+    io.array(c.tumour_pos, true);
+    io.array(c.tumour_half, true);
+    io.pod(c.tumour_particles);
+    io.pod(c.tumour_length);
+    io.pod(c.overflow);
+  }
+  events_.serialize(io);
+  if (budget_) {
+    io.array(budget_->g);
+    io.array(budget_->touched, true);
+    io.pod(budget_->peak);
+    io.pod(budget_->after);
+    io.pod(budget_->softened);
+  }
+  io.pod(coupling_stats_.bound);
+  io.pod(coupling_stats_.bound_applied);
+  io.pod(coupling_stats_.softened_nodes);
+  io.pod(coupling_stats_.bound_max);
+  io.pod(coupling_stats_.softened_substeps);
+  io.strings(warnings_);
+}
+
+void NeedleTool::readout(ToolReadout& r, const Model&, const State&) const {
+  r.kind = ToolReadout::Needle;
+  if (needles_.empty()) return;
+  const int i = active_ >= 0 && active_ < count() ? active_ : 0;
+  const Needle& nd = *needles_[i];
+  std::snprintf(r.name.data(), r.name.size(), "%s", nd.spec.name.c_str());
+  r.tip = nd.ro.tip;
+  r.axis = nd.ro.direction;
+  r.depth = nd.ro.depth;
+  r.force = nd.ro.axial_force_tick;
+  r.force_vec = nd.ro.tissue_force;
+  r.value = nd.ro.plan_depth;
+  r.active = true;
+}
+
+int64_t NeedleTool::events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out) const {
+  const int64_t total = events_.total();
+  const int64_t held = static_cast<int64_t>(events_.size());
+  int64_t first = std::max(cursor, total - held);  // older ones were overwritten
+  for (int64_t k = first; k < total; ++k) {
+    const NeedleEvent& e = events_.at(static_cast<size_t>(held - (total - k)));
+    // stick/slip flicker is for plots, not the event list a trainee reads
+    if (e.kind == NeedleEventKind::Stick || e.kind == NeedleEventKind::Slip) continue;
+    SnapshotEvent se;
+    se.time = e.time;
+    se.tool = tool_index;
+    se.kind = static_cast<uint8_t>(e.kind);
+    se.position = e.position;
+    se.depth = e.depth;
+    se.force = e.force;
+    const char* who = e.needle >= 0 && e.needle < count() ? needles_[e.needle]->spec.name.c_str() : "needle";
+    const char* comp = e.component >= 0 && e.component < static_cast<int>(model_->components.size())
+                           ? model_->components[e.component].name.c_str() : "";
+    std::snprintf(se.text.data(), se.text.size(), "%s: %s %s at %.1f mm, %.2f N", who, needle_event_name(e.kind), comp,
+                  e.depth * 1e3, e.force);
+    out.push_back(se);
+  }
+  return total;
+}
+
+}  // namespace ps

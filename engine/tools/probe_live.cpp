@@ -1,0 +1,90 @@
+// The probe's live side (between ticks): the ProbeMove command, its read-out, and the walk of
+// every mutable field (save / restore / hash, engine/util/state_io.h).
+#include <cstdio>
+
+#include "engine/tools/probe.h"
+#include "engine/util/error.h"
+
+namespace ps {
+
+namespace {
+void pose_io(ProbePose& p, StateIO& io) {
+  io.pod(p.insertion);
+  io.vec(p.offset);
+  io.pod(p.roll);
+  io.pod(p.tilt);
+  io.pod(p.yaw);
+}
+}  // namespace
+
+bool ProbeTool::apply(const Command& c, const Model&, const State&, CommandRefusal& why) {
+  if (c.kind != CommandKind::ProbeMove) {
+    why.set("not a probe command");
+    return false;
+  }
+  ProbePose p;
+  p.insertion = c.insertion;
+  p.offset = Vec3(c.offset[0], c.offset[1], c.offset[2]);
+  p.roll = c.roll;
+  p.tilt = c.tilt;
+  p.yaw = c.yaw;
+  try {
+    move_to(p, c.duration);
+  } catch (const InputError& e) {
+    why.set(e.what());
+    return false;
+  }
+  return true;
+}
+
+void ProbeTool::serialize(StateIO& io) {
+  uint64_t next = next_;
+  io.pod(next);
+  next_ = static_cast<size_t>(next);
+  io.pod(active_.t0);
+  io.pod(active_.t1);
+  pose_io(active_.from, io);
+  pose_io(active_.to, io);
+  io.pod(now_);
+  pose_io(pose_, io);
+  io.vec(frame_.pivot);
+  io.bytes(frame_.rot.data(), 9 * sizeof(double));
+  io.vec(frame_.capsule.back);
+  io.vec(frame_.capsule.tip);
+  io.vec(frame_.capsule.dir);
+  io.pod(frame_.capsule.length);
+  io.pod(frame_.capsule.radius);
+  io.vec(lo_);
+  io.vec(hi_);
+  io.array(hit_);
+  io.pod(broad_);
+  io.array(near_, true);
+  io.array(near_mark_);
+  io.array(local_);
+  io.array(coupled_);
+  io.array(touched_);
+  io.vec(force_acc_);
+  io.vec(torque_acc_);
+  io.vec(force_);
+  io.vec(torque_);
+  io.pod(substeps_acc_);
+  io.pod(contacts_);
+  io.pod(imposed_);
+  io.pod(blocked_);
+  io.pod(blocked_substeps_);
+  io.pod(penetration_);
+  io.pod(penetration_seen_);
+  io.strings(reports_);
+}
+
+void ProbeTool::readout(ToolReadout& r, const Model&, const State&) const {
+  r.kind = ToolReadout::Probe;
+  std::snprintf(r.name.data(), r.name.size(), "probe");
+  r.tip = frame_.capsule.tip;
+  r.axis = frame_.axis();
+  r.force = force_.norm();
+  r.force_vec = force_;
+  r.value = pose_.insertion;
+}
+
+}  // namespace ps

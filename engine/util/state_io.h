@@ -1,0 +1,93 @@
+// One routine per tool walks its mutable state; the same walk saves it, restores it and hashes
+// it (a tool that adds a field adds it once, to serialize(), and all three follow). Buffers that
+// are sized at construction are walked by content only: a restore into a tool built from the same
+// scene has the same sizes, and a mismatch throws instead of reading past the end.
+// Saving and hashing run between ticks (never inside Simulation::step).
+#pragma once
+#include <cstdint>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "engine/util/vec.h"
+
+namespace ps {
+
+class StateIO {
+ public:
+  enum Mode : uint8_t { Save, Restore };
+  explicit StateIO(std::vector<uint8_t>& buf, Mode mode) : buf_(buf), mode_(mode) {
+    if (mode == Save) buf_.clear();
+  }
+  bool saving() const { return mode_ == Save; }
+  size_t position() const { return pos_; }
+
+  // raw bytes of a trivially copyable value
+  template <class T>
+  void pod(T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes(&v, sizeof(T));
+  }
+  void bytes(void* p, size_t n) {
+    if (mode_ == Save) {
+      const auto* b = static_cast<const uint8_t*>(p);
+      buf_.insert(buf_.end(), b, b + n);
+    } else {
+      if (pos_ + n > buf_.size()) throw std::runtime_error("StateIO: saved state is shorter than this simulation's");
+      std::memcpy(p, buf_.data() + pos_, n);
+      pos_ += n;
+    }
+  }
+  void vec(Vec3& v) { bytes(v.data(), 3 * sizeof(double)); }
+  void quat(Quat& q) { bytes(q.coeffs().data(), 4 * sizeof(double)); }
+  // a vector of trivially copyable values: its length is part of the state (checked on restore
+  // when fixed, resized when `resizable`: only outside the step, e.g. a core's particle list)
+  template <class T>
+  void array(std::vector<T>& v, bool resizable = false) {
+    uint64_t n = v.size();
+    pod(n);
+    if (mode_ == Restore && n != v.size()) {
+      if (!resizable) throw std::runtime_error("StateIO: buffer size differs from the saved state's");
+      v.resize(n);
+    }
+    if constexpr (std::is_same_v<T, Vec3>) {
+      for (auto& x : v) vec(x);
+    } else if constexpr (std::is_same_v<T, Quat>) {
+      for (auto& x : v) quat(x);
+    } else {
+      static_assert(std::is_trivially_copyable_v<T>);
+      if (n) bytes(v.data(), n * sizeof(T));
+    }
+  }
+  void string(std::string& s) {
+    uint64_t n = s.size();
+    pod(n);
+    if (mode_ == Restore) s.resize(n);
+    if (n) bytes(s.data(), n);
+  }
+  void strings(std::vector<std::string>& v) {
+    uint64_t n = v.size();
+    pod(n);
+    if (mode_ == Restore) v.resize(n);
+    for (auto& s : v) string(s);
+  }
+
+ private:
+  std::vector<uint8_t>& buf_;
+  Mode mode_;
+  size_t pos_ = 0;
+};
+
+// FNV-1a 64 over bytes (the same as hash_state).
+inline uint64_t fnv1a(const void* p, size_t n, uint64_t h = 1469598103934665603ull) {
+  const auto* b = static_cast<const uint8_t*>(p);
+  for (size_t i = 0; i < n; ++i) {
+    h ^= b[i];
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+}  // namespace ps

@@ -1,0 +1,124 @@
+// The real-time physics thread (engine/realtime/physics_loop.h): it gives the bits of the
+// lock-step runner for the same script whatever the pacing; readers see consistent snapshots
+// while it runs; pause, single-step, reset and the slow-motion factor do what they say; a scene
+// asked to run faster than it can is reported in slow motion and keeps ticking at its own pace
+// (no spiral of death). Timing figures are read from the struct, never asserted as speeds (CI
+// machines are shared); only counts and relations are checked.
+#include "engine/realtime/physics_loop.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+#include "engine/realtime/lockstep.h"
+#include "engine/realtime/recording.h"
+#include "tests/engine/realtime/live_scene.h"
+
+namespace ps {
+namespace {
+
+uint64_t lockstep_hash(int64_t ticks) {
+  Scene sc = test::make_live_scene();
+  const Script s = parse_script_text(test::live_script_yaml(), "live.yaml");
+  CommandPlayer p(script_commands(s, sc));
+  LockstepRunner run(*sc.sim);
+  run.add_source(&p);
+  EXPECT_TRUE(run.advance_to(ticks));
+  return run.hash();
+}
+
+TEST(PhysicsLoop, ThreadedRunGivesTheLockstepBitsAndConsistentSnapshots) {
+  constexpr int64_t kTicks = 400;
+  const uint64_t expected = lockstep_hash(kTicks);
+  Scene sc = test::make_live_scene();
+  const Script s = parse_script_text(test::live_script_yaml(), "live.yaml");
+  CommandPlayer p(script_commands(s, sc));
+  LoopOptions opt;
+  opt.stop_at_tick = kTicks;
+  opt.as_fast_as_possible = true;
+  opt.log_timing = false;
+  PhysicsLoop loop(*sc.sim, opt);
+  loop.add_source(&p);
+  loop.start();
+  const size_t n3 = 3 * sc.sim->state().x.size();
+  // a reader taking snapshots as fast as it can while physics runs
+  int64_t last_tick = -1, reads = 0, inconsistent = 0, events = 0;
+  const double dt = sc.model->dt;
+  while (loop.tick() < kTicks && !loop.faulted()) {
+    if (!loop.update_snapshot()) continue;
+    const Snapshot& snap = loop.snapshot();
+    if (snap.tick < last_tick) ++inconsistent;
+    if (std::abs(snap.time - snap.tick * dt) > 1e-9) ++inconsistent;   // time and tick of one tick
+    if (snap.x.size() != n3) ++inconsistent;
+    events += static_cast<int64_t>(snap.events.size());
+    last_tick = snap.tick;
+    ++reads;
+  }
+  loop.wait_for_tick(kTicks);
+  loop.stop();
+  while (loop.update_snapshot()) events += static_cast<int64_t>(loop.snapshot().events.size());
+  EXPECT_EQ(loop.tick(), kTicks);
+  EXPECT_EQ(inconsistent, 0);
+  EXPECT_GT(reads, 0);
+  EXPECT_GT(events, 0);  // punctures reached the reader
+  EXPECT_EQ(sc.sim->hash(), expected);
+}
+
+TEST(PhysicsLoop, PauseSingleStepResetAndFactor) {
+  Scene sc = test::make_live_scene();
+  LoopOptions opt;
+  opt.start_paused = true;
+  opt.log_timing = false;
+  PhysicsLoop loop(*sc.sim, opt);
+  const uint64_t h0 = sc.sim->hash();
+  loop.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  EXPECT_EQ(loop.tick(), 0);  // paused: nothing runs
+  loop.single_step(3);
+  loop.wait_for_tick(3);
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  EXPECT_EQ(loop.tick(), 3);  // exactly three ticks
+  loop.set_factor(0.5);       // half speed
+  loop.resume();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  loop.pause();
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const int64_t ran = loop.tick() - 3;
+  // 0.3 s wall at half speed is ~150 ticks of 1 ms; the bound allows a loaded machine
+  EXPECT_GT(ran, 10);
+  EXPECT_LT(ran, 200);   // never faster than the factor allows
+  loop.reset();
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  EXPECT_EQ(loop.tick(), 0);
+  loop.stop();
+  EXPECT_EQ(sc.sim->hash(), h0);
+}
+
+TEST(PhysicsLoop, TooHeavyForTheFactorRunsInReportedSlowMotionWithoutCatchingUp) {
+  Scene sc = test::make_live_scene();
+  LoopOptions opt;
+  opt.factor = 100.0;   // 100x real time: 10 us per tick, far below what a tick costs
+  opt.log_timing = false;
+  opt.max_lag = 0.02;
+  PhysicsLoop loop(*sc.sim, opt);
+  loop.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(1300));  // over a timing window
+  loop.stop();
+  const LoopTiming t = loop.timing();
+  EXPECT_GT(t.reanchors, 0);      // gave up catching up, more than once
+  EXPECT_GT(t.overruns, 0);
+  EXPECT_LT(t.realtime_factor, 100.0);
+  EXPECT_GT(t.realtime_factor, 0.0);
+  EXPECT_GT(t.tick_p50_ms, 0.0);
+  EXPECT_GE(t.tick_p99_ms, t.tick_p50_ms);
+  double stages = 0;
+  for (double s : t.stage_ms) stages += s;
+  EXPECT_GT(stages, 0.0);         // per-stage times were sampled
+  EXPECT_LE(stages, t.tick_max_ms * 1.5 + 1.0);
+  std::printf("asked 100x: achieved %.0f ticks/s, real-time factor %.2f, p50 %.3f ms, p99 %.3f ms, %lld re-anchors\n", t.achieved_hz,
+              t.realtime_factor, t.tick_p50_ms, t.tick_p99_ms, static_cast<long long>(t.reanchors));
+}
+
+}  // namespace
+}  // namespace ps
