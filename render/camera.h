@@ -35,7 +35,7 @@ struct Camera {
 // Free orbit about a target: yaw about +z (superior), pitch above the axial plane, distance.
 struct OrbitCamera {
   Vec3 target = Vec3::Zero();
-  double yaw_deg = -55.0, pitch_deg = 20.0, distance = 0.25;  // [deg], [m]
+  double yaw_deg = 30.0, pitch_deg = 15.0, distance = 0.25;  // [deg], [m]
   void rotate(double dyaw_deg, double dpitch_deg);
   void zoom(double factor);                  // distance *= factor
   void pan(double dx_m, double dy_m);        // in the view plane [m]

@@ -22,7 +22,8 @@ namespace fs = std::filesystem;
 
 struct FrameRecorder::Impl {
   FrameOptions opt;
-  render::HeadlessContext ctx;
+  render::HeadlessContext ctx;     // first: no GL, nothing written
+  bool folder_ready;               // then the folder (refused when not empty or not writable)
   render::Renderer renderer;
   render::OffscreenTarget target;
   render::OrbitCamera orbit;
@@ -39,6 +40,7 @@ struct FrameRecorder::Impl {
 
   Impl(const Model& m, const std::string& urethra, FrameOptions o)
       : opt(std::move(o)),
+        folder_ready((prepare_output_dir(opt.out_dir, opt.force), true)),
         renderer(render::make_render_scene(m, urethra)),
         target(opt.width, opt.height, opt.samples),
         queue(6) {

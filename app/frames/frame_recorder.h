@@ -33,8 +33,9 @@ struct FrameSummary {
 
 class FrameRecorder {
  public:
-  // Creates the GL context and renderer. The output folder must be prepared already
-  // (prepare_output_dir). Throws render::RenderError when no headless GL is available.
+  // Creates the GL context, then prepares the output folder (prepare_output_dir: InputError when
+  // it is not empty without force, or not writable), then the renderer. Throws
+  // render::RenderError when no headless GL is available (nothing written then).
   FrameRecorder(const Model& model, const std::string& urethra_csv, FrameOptions opt);
   ~FrameRecorder();
 
