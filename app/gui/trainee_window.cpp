@@ -334,9 +334,10 @@ int run_window(app::RunSession& run) {
         if (ImGui::SliderFloat("scale max [mm]", &m, 0.5f, 20.0f)) ui.ropt.displacement_max_mm = m;
       }
       ImGui::Checkbox("force arrows", &ui.ropt.force_arrows);
+      ImGui::Text("opacity");
       const auto& surfaces = s.renderer().scene().surfaces;
       for (size_t i = 0; i < surfaces.size() && i < ui.ropt.opacity.size(); ++i)
-        ImGui::SliderFloat((surfaces[i].name + " opacity").c_str(), &ui.ropt.opacity[i], 0.0f, 1.0f);
+        ImGui::SliderFloat(surfaces[i].name.c_str(), &ui.ropt.opacity[i], 0.0f, 1.0f);
       if (ImGui::Button("Help (H)")) ui.help = true;
       ImGui::End();
 
