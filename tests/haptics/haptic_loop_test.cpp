@@ -62,9 +62,11 @@ Result run(int dt_ms, bool pc) {
 TEST(HapticLoop, PressedAndReleasedGainsNoEnergyAtEveryTickRate) {
   for (int dt_ms : {1, 2, 4}) {
     const Result with = run(dt_ms, true);
-    const Result raw = run(dt_ms, false);
+    // the rendering alone, without the passivity controller, at the slowest physics rate (for
+    // the report: how much the controller has to do at all)
+    const Result raw = dt_ms == 4 ? run(dt_ms, false) : Result{};
     std::printf("physics %4d Hz, device 1000 Hz: max energy given to the hand %.3g J (final %.3g J), max force %.2f N, clamped %lld, "
-                "controller acted %lld of %lld steps absorbing %.3g J; without the controller: max %.3g J\n",
+                "controller acted %lld of %lld steps absorbing %.3g J; without the controller (250 Hz only): max %.3g J\n",
                 1000 / dt_ms, with.max_work, with.final_work, with.stats.max_force, static_cast<long long>(with.stats.clamped),
                 static_cast<long long>(with.stats.pc_steps), static_cast<long long>(with.stats.steps), with.stats.pc_absorbed,
                 raw.max_work);

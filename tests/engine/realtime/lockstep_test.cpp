@@ -17,19 +17,19 @@
 namespace ps {
 namespace {
 
-struct Run {
+struct ScriptRun {
   uint64_t hash = 0;
   int64_t applied = 0, refused = 0;
   std::vector<SnapshotEvent> events;
 };
 
-Run run_script(int64_t ticks) {
+ScriptRun run_script(int64_t ticks) {
   Scene sc = test::make_live_scene();
   const Script s = parse_script_text(test::live_script_yaml(), "live.yaml");
   CommandPlayer player(script_commands(s, sc));
   LockstepRunner run(*sc.sim);
   run.add_source(&player);
-  Run r;
+  ScriptRun r;
   for (int64_t t = 0; t < ticks; t += 50) {
     EXPECT_TRUE(run.advance_to(std::min(ticks, t + 50))) << sc.sim->state().fault.describe(*sc.model);
     const Snapshot& snap = run.snapshot();
@@ -43,7 +43,7 @@ Run run_script(int64_t ticks) {
 }
 
 TEST(Lockstep, SameScriptSameHashOnThreeRunsAndEveryInstrumentActs) {
-  const Run a = run_script(600), b = run_script(600), c = run_script(600);
+  const ScriptRun a = run_script(600), b = run_script(600), c = run_script(600);
   EXPECT_EQ(a.hash, b.hash);
   EXPECT_EQ(a.hash, c.hash);
   EXPECT_EQ(a.applied, 13);  // every script entry was taken
@@ -64,8 +64,8 @@ TEST(Lockstep, SameScriptSameHashOnThreeRunsAndEveryInstrumentActs) {
 // Box2D-style: the expected hash of this run on this program. A commit that changes it changes
 // simulation results somewhere (physics, tools, scene compile, command handling) and must say so.
 TEST(Lockstep, FixedExpectedHashOfAShortScriptedRun) {
-  constexpr uint64_t kExpectedHash = 0x0ull;  // set from the first run of this test (see commit)
-  const Run r = run_script(300);
+  constexpr uint64_t kExpectedHash = 0xf9381b0b9d77321cull;  // set by the commit that added this test
+  const ScriptRun r = run_script(300);
   EXPECT_EQ(hex16(r.hash), hex16(kExpectedHash)) << "results changed: if intended, update kExpectedHash and say so in the commit";
 }
 
