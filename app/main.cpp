@@ -7,6 +7,11 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/frames/replay_frames.h"
+#include "app/run_session.h"
+#if PROSTATESIM_HAVE_GUI
+#include "app/gui/trainee_window.h"
+#endif
 #include "engine/util/error.h"
 #include "engine/util/sim_fault.h"
 
@@ -27,6 +32,10 @@ int main(int argc, char** argv) {
   ps::app::add_stress_command(app, run);
   ps::app::add_bench_command(app, run);
   // frontends (window, PNG frames) register in app/run_session.h before these two are added
+  ps::app::register_replay_frames(ps::frames::replay_frames_frontend());
+#if PROSTATESIM_HAVE_GUI
+  ps::app::register_window_frontend(&ps::gui::run_window);
+#endif
   ps::app::add_run_command(app, run);
   ps::app::add_replay_command(app, run);
   try {

@@ -143,6 +143,8 @@ struct ProbeSpec {
   double template_pitch = 0.005;   // hole spacing [m]
   int template_cols = 13, template_rows = 13;
   double template_first_row = 0.010; // row 0 above the probe axis (anterior) [m]
+  bool has_guide = false;          // needle_guide: given (drawn on the probe)
+  bool has_template = false;       // template: given (grid drawn on the stepper)
   SourceLoc loc, pose_loc;
 };
 

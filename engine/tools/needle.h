@@ -162,6 +162,8 @@ class NeedleTool : public Tool {
   const char* name() const override { return "needles"; }
   void forces(const Model& m, State& s, double dt) override;
   void after_step(const Model& m, State& s, double dt) override;
+  // shaft, tip, depth marks every 10 mm, hub, seeds, force arrow (needle_draw.cpp)
+  void draw(DrawSink& out, const Model& m, const State& s) const override;
   // live use (needle_live.cpp): NeedleAim/Advance/Rotate/Release, FireGun, DepositSeed,
   // SelectNeedle, SelectHole (needs attach_probe)
   bool apply(const Command& c, const Model& m, const State& s, CommandRefusal& why) override;

@@ -101,6 +101,8 @@ class ProbeTool final : public Tool {
   void boundary_conditions(const Model& m, State& s, double dt) override;
   void constraints(const Model& m, State& s, double dt) override;
   void after_step(const Model& m, State& s, double dt) override;
+  // probe body, biopsy guide and its planned path, template grid, force arrow (probe_draw.cpp)
+  void draw(DrawSink& out, const Model& m, const State& s) const override;
   // live use (probe_live.cpp): ProbeMove; every mutable field walked by serialize()
   bool apply(const Command& c, const Model& m, const State& s, CommandRefusal& why) override;
   bool accepts(CommandKind k) const override { return k == CommandKind::ProbeMove; }

@@ -112,6 +112,7 @@ void parse_probe_section(const YamlReader& r, const YAML::Node& n, ScenarioSpec&
       p.max_angular_speed = r.positive(l["max_angular_speed_deg_s"], "probe.limits.max_angular_speed_deg_s") * kDeg;
   }
   if (const YAML::Node g = n["needle_guide"]) {
+    p.has_guide = true;
     r.only_keys(g, "probe.needle_guide", {"angle_deg", "back_mm"});
     if (g["angle_deg"]) {
       p.guide_angle = r.number(g["angle_deg"], "probe.needle_guide.angle_deg") * kDeg;
@@ -121,6 +122,7 @@ void parse_probe_section(const YamlReader& r, const YAML::Node& n, ScenarioSpec&
     if (g["back_mm"]) p.guide_back = r.non_negative(g["back_mm"], "probe.needle_guide.back_mm") * kMm;
   }
   if (const YAML::Node t = n["template"]) {
+    p.has_template = true;
     r.only_keys(t, "probe.template", {"distance_mm", "pitch_mm", "cols", "rows", "first_row_mm"});
     if (t["distance_mm"]) p.template_distance = r.number(t["distance_mm"], "probe.template.distance_mm") * kMm;
     if (t["pitch_mm"]) p.template_pitch = r.positive(t["pitch_mm"], "probe.template.pitch_mm") * kMm;

@@ -1,0 +1,35 @@
+// Options of the headless frame writer (`prostatesim replay ... --out DIR`), and their checks:
+// every bad value is refused before anything is written (InputError naming the option).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "render/camera.h"
+
+namespace ps::frames {
+
+inline constexpr int kMaxImageSide = 8192;   // [px]
+
+struct FrameOptions {
+  std::string out_dir;
+  int width = 1280, height = 720;            // [px]
+  double fps = 30.0;                         // frames per simulated second
+  std::vector<render::View> views{render::View::Orbit};
+  bool force = false;                        // allow a non-empty out_dir (our files replaced)
+  int samples = 4;                           // multisampling
+  bool displacement = false;                 // colour by displacement [mm]
+  double displacement_max_mm = 5.0;
+  bool progress = true;                      // progress bar on stderr
+  int expected_frames = 0;                   // for the progress bar and the contact sheet
+};
+
+// "1280x720" -> width, height in 1..kMaxImageSide. Throws InputError (field --size).
+void parse_size(const std::string& s, int& width, int& height);
+// "3d,lateral" -> views; unknown names throw InputError (field --views) listing the known ones.
+std::vector<render::View> parse_views(const std::string& s);
+// Refuses a non-empty folder unless `force`, creates it, checks it is writable (a probe file
+// written and removed). With force, removes the files a previous replay wrote there (and only
+// those). Throws InputError (field --out).
+void prepare_output_dir(const std::string& dir, bool force);
+
+}  // namespace ps::frames

@@ -1,0 +1,181 @@
+#include "app/frames/frame_recorder.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <unistd.h>
+
+#include "app/frames/contact_sheet.h"
+#include "engine/io/png_write.h"
+#include "app/frames/png_queue.h"
+#include "engine/model/model.h"
+#include "engine/util/atomic_file.h"
+#include "render/headless_context.h"
+#include "render/renderer.h"
+
+namespace ps::frames {
+
+namespace fs = std::filesystem;
+
+struct FrameRecorder::Impl {
+  FrameOptions opt;
+  render::HeadlessContext ctx;     // first: no GL, nothing written
+  bool folder_ready;               // then the folder (refused when not empty or not writable)
+  render::Renderer renderer;
+  render::OffscreenTarget target;
+  render::OrbitCamera orbit;
+  PngQueue queue;
+  int frame = 0;
+  std::vector<double> render_ms;
+  std::string events;
+  std::vector<std::string> tool_names;
+  std::vector<double> t, depth, force;                     // active needle samples
+  std::vector<std::pair<double, double>> marks;            // (depth mm, force N) at punctures
+  std::vector<std::string> mark_labels;
+  std::vector<Thumb> thumbs;                               // contact sheet frames
+  std::vector<int> thumb_frames;
+
+  Impl(const Model& m, const std::string& urethra, FrameOptions o)
+      : opt(std::move(o)),
+        folder_ready((prepare_output_dir(opt.out_dir, opt.force), true)),
+        renderer(render::make_render_scene(m, urethra)),
+        target(opt.width, opt.height, opt.samples),
+        queue(6) {
+    orbit.target = renderer.scene().focus;
+    orbit.distance = renderer.scene().extent * 3.2;
+    const int n = std::max(1, opt.expected_frames);
+    for (int k = 0; k < 4; ++k) thumb_frames.push_back(static_cast<int>(std::lround(k * (n - 1) / 3.0)));
+  }
+};
+
+FrameRecorder::FrameRecorder(const Model& model, const std::string& urethra, FrameOptions opt)
+    : impl_(std::make_unique<Impl>(model, urethra, std::move(opt))) {
+  for (render::View v : impl_->opt.views) fs::create_directories(fs::path(impl_->opt.out_dir) / render::view_name(v));
+}
+
+FrameRecorder::~FrameRecorder() = default;
+
+const std::string& FrameRecorder::backend() const { return impl_->ctx.backend(); }
+
+void FrameRecorder::observe(const Snapshot& snap) {
+  Impl& im = *impl_;
+  if (im.tool_names.empty())
+    for (const auto& t : snap.tools) im.tool_names.emplace_back(t.name.data());
+  char line[320];
+  for (const SnapshotEvent& e : snap.events) {
+    const char* tool = e.tool >= 0 && e.tool < static_cast<int>(im.tool_names.size()) ? im.tool_names[e.tool].c_str() : "-";
+    std::snprintf(line, sizeof line, "t=%8.4f s  %-10s %-60s depth %6.1f mm  force %6.2f N\n", e.time, tool, e.text.data(),
+                  e.depth * 1e3, e.force);
+    im.events += line;
+    const std::string text = e.text.data();
+    if (text.find("puncture") != std::string::npos || text.find("bone") != std::string::npos ||
+        text.find("core") != std::string::npos) {
+      im.marks.emplace_back(e.depth * 1e3, e.force);
+      im.mark_labels.push_back(text);
+    }
+  }
+  if (snap.faulted) {
+    std::snprintf(line, sizeof line, "t=%8.4f s  FAULT  %s\n", snap.time, snap.fault.data());
+    im.events += line;
+  }
+  for (const ToolReadout& t : snap.tools)
+    if (t.kind == ToolReadout::Needle && t.active && t.depth > 0.0) {
+      im.t.push_back(snap.time);
+      im.depth.push_back(t.depth * 1e3);
+      im.force.push_back(t.force);
+      break;
+    }
+}
+
+void FrameRecorder::add_frame(const Snapshot& snap) {
+  Impl& im = *impl_;
+  im.renderer.update(snap);
+  std::vector<uint8_t> rgb;
+  for (size_t v = 0; v < im.opt.views.size(); ++v) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const render::View view = im.opt.views[v];
+    render::RenderOptions ro;
+    ro.displacement = im.opt.displacement;
+    ro.displacement_max_mm = im.opt.displacement_max_mm;
+    ro.title = im.renderer.scene().name + "  [" + render::view_name(view) + "]";
+    im.target.bind();
+    im.renderer.render(render::preset_camera(view, im.renderer.scene(), &snap, im.orbit), im.opt.width, im.opt.height, ro);
+    rgb = im.queue.take_buffer();
+    im.target.read_rgb(rgb);
+    im.render_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    if (v == 0 && std::find(im.thumb_frames.begin(), im.thumb_frames.end(), im.frame) != im.thumb_frames.end() &&
+        im.thumbs.size() < 4)
+      im.thumbs.push_back(make_thumb(rgb, im.opt.width, im.opt.height, 640, snap.time));
+    char name[64];
+    std::snprintf(name, sizeof name, "frame_%06d.png", im.frame);
+    const fs::path path = fs::path(im.opt.out_dir) / render::view_name(view) / name;
+    im.queue.push(path.string(), im.opt.width, im.opt.height, std::move(rgb));
+  }
+  ++im.frame;
+}
+
+void FrameRecorder::progress(int i, int n, double sim_time) const {
+  if (!impl_->opt.progress || n <= 0) return;
+  const bool tty = ::isatty(2);
+  const int pct = static_cast<int>(100.0 * i / n);
+  if (!tty && i != n && (i % std::max(1, n / 10)) != 0) return;
+  const int width = 30, filled = width * i / n;
+  std::fprintf(stderr, "%s[%.*s%*s] %3d%%  frame %d/%d  t = %.3f s%s", tty ? "\r" : "", filled,
+               "##############################", width - filled, "", pct, i, n, sim_time, tty ? (i == n ? "\n" : "") : "\n");
+  std::fflush(stderr);
+}
+
+FrameSummary FrameRecorder::finish(const std::string& extra_json) {
+  Impl& im = *impl_;
+  im.queue.finish();
+  const fs::path dir(im.opt.out_dir);
+  write_file_atomic((dir / "events.log").string(), im.events.empty() ? std::string("(no events)\n") : im.events);
+  std::string csv = "t_s,depth_mm,force_n\n";
+  char line[96];
+  for (size_t k = 0; k < im.t.size(); ++k) {
+    std::snprintf(line, sizeof line, "%.6f,%.4f,%.5f\n", im.t[k], im.depth[k], im.force[k]);
+    csv += line;
+  }
+  write_file_atomic((dir / "force_depth.csv").string(), csv);
+  ContactSheetInput in;
+  in.title = im.renderer.scene().name;
+  in.thumbs = im.thumbs;
+  in.depth_mm = im.depth;
+  in.force_n = im.force;
+  in.marks = im.marks;
+  write_contact_sheet((dir / "contact_sheet.png").string(), in);
+
+  FrameSummary s;
+  s.frames = im.frame;
+  s.files = im.queue.written();
+  std::vector<double> ms = im.render_ms;
+  if (!ms.empty()) {
+    std::sort(ms.begin(), ms.end());
+    s.render_ms_median = ms[ms.size() / 2];
+    s.render_ms_max = ms.back();
+  }
+  s.backend = im.ctx.backend();
+  s.gl_renderer = im.ctx.renderer();
+  nlohmann::json j = nlohmann::json::parse(extra_json);
+  j["frames_per_view"] = s.frames;
+  j["png_files"] = s.files;
+  nlohmann::json views = nlohmann::json::array();
+  for (render::View v : im.opt.views) views.push_back(render::view_name(v));
+  j["views"] = views;
+  j["width_px"] = im.opt.width;
+  j["height_px"] = im.opt.height;
+  j["fps"] = im.opt.fps;
+  j["samples"] = im.opt.samples;
+  j["events"] = std::count(im.events.begin(), im.events.end(), '\n');
+  j["gl_backend"] = s.backend;
+  j["gl_renderer"] = s.gl_renderer;
+  j["render_ms_median"] = s.render_ms_median;
+  j["render_ms_max"] = s.render_ms_max;
+  write_file_atomic((dir / "summary.json").string(), j.dump(2) + "\n");
+  return s;
+}
+
+}  // namespace ps::frames

@@ -1,0 +1,119 @@
+#include "app/gui/session.h"
+
+#include "engine/tools/needle.h"
+
+namespace ps::gui {
+
+void Session::make_renderer() {
+  std::string urethra;
+  for (const auto& c : scene_->spec.components)
+    if (c.name == "prostate") urethra = render::urethra_file_beside(c.shape.mesh.file);
+  renderer_ = std::make_unique<render::Renderer>(render::make_render_scene(*scene_->model, urethra));
+}
+
+Session::Session(app::RunSession& run)
+    : file_(run.scenario_path), scene_(&run.scene), loop_(&run.loop), mouse_(run.mouse), end_tick_(run.end_tick) {
+  make_renderer();
+}
+
+Session::Session(const std::string& scenario, double factor, const std::string& record_to) : file_(scenario) {
+  own_scene_ = std::make_unique<Scene>(load_scene(scenario));
+  scene_ = own_scene_.get();
+  make_renderer();
+  LoopOptions lo;
+  lo.factor = factor;
+  lo.log_timing = false;
+  own_loop_ = std::make_unique<PhysicsLoop>(*scene_->sim, lo);
+  loop_ = own_loop_.get();
+  if (!record_to.empty()) {
+    const Model& m = *scene_->model;
+    recorder_ = std::make_unique<RecordingWriter>(record_to, RecordingHeader{scene_->spec.name, scene_->content_hash, m.dt, m.substeps});
+    loop_->applier().set_observer(recorder_.get());
+  }
+  loop_->start();
+}
+
+Session::~Session() {
+  if (!own_loop_) return;  // the run command stops its own loop
+  own_loop_->stop();
+  if (recorder_) recorder_->finish(own_loop_->tick(), scene_->sim->hash());
+}
+
+const std::string& Session::recording_path() const {
+  static const std::string none;
+  return recorder_ ? recorder_->path() : none;
+}
+
+const Snapshot& Session::latest() {
+  fresh_ = loop_->update_snapshot();
+  return loop_->snapshot();
+}
+
+std::span<const SnapshotEvent> Session::new_events() const {
+  if (!fresh_) return {};
+  const auto& e = loop_->snapshot().events;
+  return {e.data(), e.size()};
+}
+
+void Session::pause(bool p) {
+  if (p) loop_->pause();
+  else loop_->resume();
+}
+
+void Session::push(Command c) {
+  c.tick = loop_->next_tick();
+  loop_->queue().push(c);  // a full queue drops the command: the physics never waits
+}
+
+void Session::move_probe(double insertion, double roll, double tilt, double yaw) {
+  if (!has_probe()) return;
+  Command c;
+  c.kind = CommandKind::ProbeMove;
+  c.tool = static_cast<int16_t>(scene_->probe_tool);
+  const ProbePose p0 = initial_probe_pose();
+  c.insertion = insertion;
+  for (int k = 0; k < 3; ++k) c.offset[k] = p0.offset[k];
+  c.roll = roll;
+  c.tilt = tilt;
+  c.yaw = yaw;
+  c.duration = 0.3;
+  push(c);
+}
+
+int Session::needle_count() const {
+  if (scene_->needle_tool < 0) return 0;
+  return static_cast<const NeedleTool&>(*scene_->sim->tools()[scene_->needle_tool]).count();
+}
+
+std::string Session::needle_name(int i) const {
+  if (i < 0 || i >= needle_count()) return "-";
+  return static_cast<const NeedleTool&>(*scene_->sim->tools()[scene_->needle_tool]).spec(i).name;
+}
+
+namespace {
+Command needle_command(CommandKind k, int tool, int i) {
+  Command c;
+  c.kind = k;
+  c.tool = static_cast<int16_t>(tool);
+  c.item = static_cast<int16_t>(i);
+  return c;
+}
+}  // namespace
+
+void Session::select(int i) {
+  if (i >= 0 && i < needle_count()) push(needle_command(CommandKind::SelectNeedle, scene_->needle_tool, i));
+}
+void Session::advance(int i, double speed) {
+  if (i < 0 || i >= needle_count()) return;
+  Command c = needle_command(CommandKind::NeedleAdvance, scene_->needle_tool, i);
+  c.value = speed;
+  push(c);
+}
+void Session::fire(int i) {
+  if (i >= 0 && i < needle_count()) push(needle_command(CommandKind::FireGun, scene_->needle_tool, i));
+}
+void Session::seed(int i) {
+  if (i >= 0 && i < needle_count()) push(needle_command(CommandKind::DepositSeed, scene_->needle_tool, i));
+}
+
+}  // namespace ps::gui

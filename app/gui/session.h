@@ -1,0 +1,69 @@
+// One running scene of the trainee window: either the run command's own (borrowed: its scene,
+// physics thread and mouse/keyboard device) or one the window opened itself (owned: a scenario
+// opened from the window, or a fresh start being recorded). The window talks to the physics only
+// through this: it reads the newest snapshot and pushes stamped commands.
+#pragma once
+#include <memory>
+#include <span>
+#include <string>
+
+#include "app/run_session.h"
+#include "render/renderer.h"
+
+namespace ps::gui {
+
+class Session {
+ public:
+  explicit Session(app::RunSession& run);  // borrowed
+  // Owned: loads, compiles and starts the scenario (recording every applied command to
+  // `record_to` when given); throws InputError / CompileError (file:line:field), leaving
+  // nothing running.
+  Session(const std::string& scenario, double factor, const std::string& record_to = "");
+  ~Session();
+
+  const std::string& name() const { return scene_->spec.name; }
+  const std::string& file() const { return file_; }
+  render::Renderer& renderer() { return *renderer_; }
+  haptics::MouseKeyboardDevice* mouse() const { return mouse_; }
+  int64_t end_tick() const { return end_tick_; }
+  PhysicsLoop& loop() { return *loop_; }
+
+  // Newest snapshot; new_events(): its events when it is new since the previous latest() call.
+  const Snapshot& latest();
+  std::span<const SnapshotEvent> new_events() const;
+  LoopTiming timing() const { return loop_->timing(); }
+
+  void pause(bool p);
+  void restart() { loop_->reset(); }
+
+  bool has_probe() const { return scene_->probe_tool >= 0; }
+  ProbePose initial_probe_pose() const { return scene_->spec.probe ? scene_->spec.probe->pose : ProbePose{}; }
+  void move_probe(double insertion, double roll, double tilt, double yaw);
+
+  int needle_count() const;
+  std::string needle_name(int i) const;
+  void select(int i);
+  void advance(int i, double speed);  // [m/s], negative retracts, 0 stops
+  void fire(int i);
+  void seed(int i);
+
+  bool recording() const { return recorder_ != nullptr; }
+  const std::string& recording_path() const;
+
+ private:
+  void make_renderer();
+  void push(Command c);
+
+  std::string file_;
+  std::unique_ptr<Scene> own_scene_;
+  std::unique_ptr<RecordingWriter> recorder_;
+  std::unique_ptr<PhysicsLoop> own_loop_;
+  Scene* scene_ = nullptr;
+  PhysicsLoop* loop_ = nullptr;
+  haptics::MouseKeyboardDevice* mouse_ = nullptr;
+  int64_t end_tick_ = -1;
+  std::unique_ptr<render::Renderer> renderer_;
+  bool fresh_ = false;
+};
+
+}  // namespace ps::gui

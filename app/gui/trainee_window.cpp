@@ -1,0 +1,434 @@
+#include "app/gui/trainee_window.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/gui/session.h"
+#include "engine/io/png_write.h"
+#include "haptics/mouse_keyboard.h"
+#include "engine/util/error.h"
+#include "render/gl_api.h"
+#include "render/render_error.h"
+#include "render/renderer.h"
+
+namespace ps::gui {
+
+namespace {
+
+constexpr float kLeftPanel = 330.0f, kRightPanel = 400.0f;  // panel widths [px]
+constexpr double kPi = 3.14159265358979323846;
+
+struct Ui {
+  render::View view = render::View::Orbit;
+  render::OrbitCamera orbit;
+  render::RenderOptions ropt;
+  bool help = false;
+  bool paused = false;
+  int needle = 0;                 // selected needle index
+  float speed_mm_s = 5.0f;        // advance speed [mm/s]
+  float insertion_mm = 0, roll_deg = 0, tilt_deg = 0, yaw_deg = 0;
+  char open_path[512] = {};
+  std::string error;              // last load error (file:line:field)
+  std::deque<std::string> log;    // event log (newest last)
+  std::vector<float> depth_mm, force_n;  // force-versus-depth of the active needle
+  double frame_ms = 0.0;
+  bool dragging_l = false, dragging_r = false;
+  double mx = 0, my = 0;
+};
+
+void push_log(Ui& ui, const std::string& s) {
+  ui.log.push_back(s);
+  while (ui.log.size() > 400) ui.log.pop_front();
+}
+
+void reset_view(Ui& ui, Session& s) {
+  ui.orbit = render::OrbitCamera{};
+  ui.orbit.target = s.renderer().scene().focus;
+  ui.orbit.distance = s.renderer().scene().extent * 3.2;
+  ui.ropt.opacity.clear();
+  for (const auto& surf : s.renderer().scene().surfaces) ui.ropt.opacity.push_back(surf.colour.a);
+  ui.ropt.hidden.assign(s.renderer().scene().surfaces.size(), 0);
+  const ProbePose p = s.initial_probe_pose();
+  ui.insertion_mm = static_cast<float>(p.insertion * 1e3);
+  ui.roll_deg = static_cast<float>(p.roll * 180 / kPi);
+  ui.tilt_deg = static_cast<float>(p.tilt * 180 / kPi);
+  ui.yaw_deg = static_cast<float>(p.yaw * 180 / kPi);
+  ui.depth_mm.clear();
+  ui.force_n.clear();
+  ui.needle = 0;
+}
+
+// force versus depth, drawn with ImDrawList (ImPlot is not packaged)
+void force_plot(const Ui& ui, ImVec2 size) {
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  const ImVec2 p1(p0.x + size.x, p0.y + size.y);
+  dl->AddRectFilled(p0, p1, IM_COL32(20, 22, 26, 255));
+  const float ml = 34, mb = 18;
+  float dmax = 10.0f, fmax = 1.0f;
+  for (float d : ui.depth_mm) dmax = std::max(dmax, d);
+  for (float f : ui.force_n) fmax = std::max(fmax, std::abs(f));
+  dmax = std::ceil(dmax / 10.0f) * 10.0f;
+  fmax = std::ceil(fmax);
+  auto X = [&](float d) { return p0.x + ml + (size.x - ml - 6) * d / dmax; };
+  auto Y = [&](float f) { return p1.y - mb - (size.y - mb - 6) * f / fmax; };
+  for (int k = 0; k <= 4; ++k) {
+    const float d = dmax * k / 4, f = fmax * k / 4;
+    dl->AddLine(ImVec2(X(d), p0.y + 4), ImVec2(X(d), p1.y - mb), IM_COL32(60, 62, 70, 255));
+    dl->AddLine(ImVec2(p0.x + ml, Y(f)), ImVec2(p1.x - 4, Y(f)), IM_COL32(60, 62, 70, 255));
+    char b[16];
+    std::snprintf(b, sizeof b, "%.0f", d);
+    dl->AddText(ImVec2(X(d) - 6, p1.y - mb + 2), IM_COL32(200, 200, 200, 255), b);
+    std::snprintf(b, sizeof b, "%.0f", f);
+    dl->AddText(ImVec2(p0.x + 4, Y(f) - 7), IM_COL32(200, 200, 200, 255), b);
+  }
+  for (size_t k = 1; k < ui.depth_mm.size(); ++k)
+    dl->AddLine(ImVec2(X(ui.depth_mm[k - 1]), Y(ui.force_n[k - 1])), ImVec2(X(ui.depth_mm[k]), Y(ui.force_n[k])),
+                IM_COL32(255, 150, 40, 255), 2.0f);
+  dl->AddText(ImVec2(p0.x + ml + 4, p0.y + 4), IM_COL32(230, 230, 230, 255), "force [N] vs depth [mm]");
+  ImGui::Dummy(size);
+}
+
+void help_overlay(Ui& ui) {
+  ImGui::SetNextWindowPos(ImVec2(ImGui::GetIO().DisplaySize.x * 0.5f, ImGui::GetIO().DisplaySize.y * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+  ImGui::SetNextWindowBgAlpha(0.92f);
+  ImGui::Begin("Help: mouse and keyboard", &ui.help, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse);
+  const char* rows[][2] = {
+      {"left drag (vertical)", "needle depth (mouse+keyboard device), else orbit"},
+      {"right drag", "orbit the 3D view"}, {"middle drag", "pan"}, {"wheel", "zoom"},
+      {"1 2 3 4 5", "views: 3D, anterior, lateral, along probe, side-on to needle"},
+      {"W / S (hold)", "advance / retract the active needle"}, {"Q / E", "turn the needle hub"},
+      {"Tab", "next needle"}, {"Space", "fire the biopsy gun"}, {"D", "deposit a seed"},
+      {"Shift (hold)", "clutch: move the hand without the needle"},
+      {"P", "pause / resume"}, {"R", "restart the scenario"}, {"C", "displacement colours"},
+      {"A", "force arrows"}, {"H or F1", "this help"}, {"Esc", "close the help"}};
+  if (ImGui::BeginTable("bindings", 2, ImGuiTableFlags_RowBg)) {
+    for (auto& r : rows) {
+      ImGui::TableNextRow();
+      ImGui::TableSetColumnIndex(0);
+      ImGui::TextColored(ImVec4(1.0f, 0.85f, 0.4f, 1.0f), "%s", r[0]);
+      ImGui::TableSetColumnIndex(1);
+      ImGui::TextUnformatted(r[1]);
+    }
+    ImGui::EndTable();
+  }
+  ImGui::End();
+}
+
+}  // namespace
+
+int run_window(app::RunSession& run) {
+  glfwSetErrorCallback([](int code, const char* msg) { std::fprintf(stderr, "GLFW error %d: %s\n", code, msg); });
+  if (!glfwInit()) {
+    std::fprintf(stderr, "error: cannot open a window (no display?); use `prostatesim replay ... --out DIR` for headless frames\n");
+    return 4;
+  }
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_SAMPLES, 4);
+  const char* shot_env = std::getenv("PROSTATESIM_SCREENSHOT");
+  const std::string screenshot = shot_env ? shot_env : "";
+  GLFWwindow* win = glfwCreateWindow(1600, 900, "ProstateSim trainee", nullptr, nullptr);
+  if (!win) {
+    glfwTerminate();
+    std::fprintf(stderr, "error: cannot create an OpenGL 3.3 core window\n");
+    return 4;
+  }
+  glfwMakeContextCurrent(win);
+  glfwSwapInterval(1);
+  int rc = 0;
+  {
+    try {
+      gl::load([](const char* n) { return reinterpret_cast<void*>(glfwGetProcAddress(n)); });
+    } catch (const render::RenderError& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      glfwDestroyWindow(win);
+      glfwTerminate();
+      return 4;
+    }
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    io.IniFilename = nullptr;
+    ImGui::StyleColorsDark();
+    ImGui_ImplGlfw_InitForOpenGL(win, true);
+    ImGui_ImplOpenGL3_Init("#version 330");
+
+    Ui ui;
+    ui.help = std::getenv("PROSTATESIM_HELP") != nullptr;
+    const double factor = run.loop.factor();
+    std::unique_ptr<Session> session = std::make_unique<Session>(run);
+    reset_view(ui, *session);
+    std::snprintf(ui.open_path, sizeof ui.open_path, "%s", run.scenario_path.c_str());
+    push_log(ui, "loaded " + run.scenario_path);
+    // replaces the running session (the run command's own loop is paused, not stopped)
+    auto switch_to = [&](const std::string& path, const std::string& record_to) {
+      try {
+        auto next = std::make_unique<Session>(path, factor, record_to);
+        session->pause(true);
+        session = std::move(next);
+        reset_view(ui, *session);
+        ui.paused = false;
+        ui.error.clear();
+        return true;
+      } catch (const std::exception& e) {
+        ui.error = e.what();  // the last good scene keeps running
+        push_log(ui, std::string("load failed: ") + e.what());
+        return false;
+      }
+    };
+    int frame = 0;
+    bool pending = false;
+    std::string pending_path, pending_record, pending_log;
+    auto last = std::chrono::steady_clock::now();
+    bool up_held = false, down_held = false;
+    while (!glfwWindowShouldClose(win)) {
+      glfwPollEvents();
+      ImGui_ImplOpenGL3_NewFrame();
+      ImGui_ImplGlfw_NewFrame();
+      ImGui::NewFrame();
+      Session& s = *session;
+
+      // --- snapshot: events, plot samples ---
+      const Snapshot& snap = s.latest();
+      for (const SnapshotEvent& e : s.new_events()) {
+        char b[200];
+        std::snprintf(b, sizeof b, "%7.3f s  %s", e.time, e.text.data());
+        push_log(ui, b);
+      }
+      const ToolReadout* active = nullptr;
+      for (const auto& t : snap.tools)
+        if (t.kind == ToolReadout::Needle && (t.active || !active)) active = &t;
+      if (active && active->depth > 0.0 && (ui.depth_mm.empty() || std::abs(ui.depth_mm.back() - active->depth * 1e3) > 0.01)) {
+        ui.depth_mm.push_back(static_cast<float>(active->depth * 1e3));
+        ui.force_n.push_back(static_cast<float>(active->force));
+        if (ui.depth_mm.size() > 20000) {
+          ui.depth_mm.erase(ui.depth_mm.begin(), ui.depth_mm.begin() + 10000);
+          ui.force_n.erase(ui.force_n.begin(), ui.force_n.begin() + 10000);
+        }
+      }
+
+      // --- keyboard (when ImGui does not want it); instrument keys go to the run's
+      // mouse+keyboard device when it has one (docs/realtime.md), else become commands ---
+      if (!io.WantCaptureKeyboard) {
+        auto pressed = [&](int key) { return ImGui::IsKeyPressed(key, false); };
+        if (pressed(GLFW_KEY_1)) ui.view = render::View::Orbit;
+        if (pressed(GLFW_KEY_2)) ui.view = render::View::Anterior;
+        if (pressed(GLFW_KEY_3)) ui.view = render::View::Lateral;
+        if (pressed(GLFW_KEY_4)) ui.view = render::View::Probe;
+        if (pressed(GLFW_KEY_5)) ui.view = render::View::Needle;
+        if (pressed(GLFW_KEY_P)) { ui.paused = !ui.paused; s.pause(ui.paused); }
+        if (pressed(GLFW_KEY_R)) { s.restart(); reset_view(ui, s); push_log(ui, "restarted"); }
+        if (pressed(GLFW_KEY_C)) ui.ropt.displacement = !ui.ropt.displacement;
+        if (pressed(GLFW_KEY_A)) ui.ropt.force_arrows = !ui.ropt.force_arrows;
+        if (pressed(GLFW_KEY_H) || pressed(GLFW_KEY_F1)) ui.help = !ui.help;
+        if (pressed(GLFW_KEY_ESCAPE)) ui.help = false;
+        if (haptics::MouseKeyboardDevice* m = s.mouse()) {
+          using K = haptics::MouseKeyboardDevice;
+          const std::pair<int, K::Key> keys[] = {{GLFW_KEY_W, K::W}, {GLFW_KEY_S, K::S}, {GLFW_KEY_Q, K::Q}, {GLFW_KEY_E, K::E},
+                                                 {GLFW_KEY_SPACE, K::Space}, {GLFW_KEY_D, K::D}, {GLFW_KEY_TAB, K::Tab},
+                                                 {GLFW_KEY_LEFT_SHIFT, K::Shift}};
+          for (auto [g, k] : keys) {
+            if (ImGui::IsKeyPressed(g, false)) m->key(k, true);
+            if (ImGui::IsKeyReleased(g)) m->key(k, false);
+          }
+          if (ImGui::IsKeyPressed(GLFW_KEY_TAB, false) && s.needle_count() > 0) ui.needle = (ui.needle + 1) % s.needle_count();
+        } else {
+          if (pressed(GLFW_KEY_SPACE)) s.fire(ui.needle);
+          if (pressed(GLFW_KEY_D)) s.seed(ui.needle);
+          if (pressed(GLFW_KEY_TAB) && s.needle_count() > 0) { ui.needle = (ui.needle + 1) % s.needle_count(); s.select(ui.needle); }
+          const bool up = ImGui::IsKeyDown(GLFW_KEY_W), down = ImGui::IsKeyDown(GLFW_KEY_S);
+          if (up != up_held || down != down_held)
+            s.advance(ui.needle, up ? ui.speed_mm_s * 1e-3 : down ? -ui.speed_mm_s * 1e-3 : 0.0);
+          up_held = up;
+          down_held = down;
+        }
+      }
+
+      // --- panels ---
+      const ImVec2 ds = io.DisplaySize;
+      ImGui::SetNextWindowPos(ImVec2(0, 0));
+      ImGui::SetNextWindowSize(ImVec2(kLeftPanel, ds.y));
+      ImGui::Begin("Instruments", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+      ImGui::TextColored(ImVec4(0.6f, 0.9f, 1.0f, 1.0f), "%s", s.name().c_str());
+      ImGui::InputText("##open", ui.open_path, sizeof ui.open_path);
+      ImGui::SameLine();
+      if (ImGui::Button("Open")) {
+        pending = true;  // switched after this frame: `s` stays valid until then
+        pending_path = ui.open_path;
+        pending_record.clear();
+        pending_log = std::string("loaded ") + ui.open_path;
+      }
+      if (!ui.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", ui.error.c_str());
+      if (ImGui::Button(ui.paused ? "Resume" : "Pause")) { ui.paused = !ui.paused; s.pause(ui.paused); }
+      ImGui::SameLine();
+      if (ImGui::Button("Restart")) { s.restart(); reset_view(ui, s); push_log(ui, "restarted"); }
+      ImGui::SameLine();
+      if (ImGui::Button(s.recording() ? "Stop recording" : "Record")) {
+        pending = true;
+        pending_path = s.file();
+        if (s.recording()) {
+          pending_record.clear();
+          pending_log = "recording saved: " + s.recording_path() + " (scene restarted)";
+        } else {
+          std::filesystem::create_directories("out/recordings");
+          pending_record = "out/recordings/" + s.name() + ".rec";
+          pending_log = "recording to " + pending_record + " from a fresh start";
+        }
+      }
+      ImGui::Separator();
+      if (s.has_probe()) {
+        ImGui::Text("Probe pose");
+        bool moved = false;
+        moved |= ImGui::SliderFloat("insertion [mm]", &ui.insertion_mm, 0.0f, 80.0f);
+        moved |= ImGui::SliderFloat("roll [deg]", &ui.roll_deg, -90.0f, 90.0f);
+        moved |= ImGui::SliderFloat("tilt [deg]", &ui.tilt_deg, -20.0f, 20.0f);
+        moved |= ImGui::SliderFloat("yaw [deg]", &ui.yaw_deg, -20.0f, 20.0f);
+        if (moved)
+          s.move_probe(ui.insertion_mm * 1e-3, ui.roll_deg * kPi / 180, ui.tilt_deg * kPi / 180, ui.yaw_deg * kPi / 180);
+        ImGui::Separator();
+      }
+      if (s.needle_count() > 0) {
+        ImGui::Text("Needle");
+        if (ImGui::BeginCombo("active", s.needle_name(ui.needle).c_str())) {
+          for (int i = 0; i < s.needle_count(); ++i)
+            if (ImGui::Selectable(s.needle_name(i).c_str(), i == ui.needle)) { ui.needle = i; s.select(i); }
+          ImGui::EndCombo();
+        }
+        ImGui::SliderFloat("speed [mm/s]", &ui.speed_mm_s, 0.5f, 50.0f);
+        if (ImGui::Button("Advance")) s.advance(ui.needle, ui.speed_mm_s * 1e-3);
+        ImGui::SameLine();
+        if (ImGui::Button("Stop")) s.advance(ui.needle, 0.0);
+        ImGui::SameLine();
+        if (ImGui::Button("Retract")) s.advance(ui.needle, -ui.speed_mm_s * 1e-3);
+        if (ImGui::Button("Fire gun")) s.fire(ui.needle);
+        ImGui::SameLine();
+        if (ImGui::Button("Deposit seed")) s.seed(ui.needle);
+        if (active) ImGui::Text("depth %.1f mm   force %.2f N", active->depth * 1e3, active->force);
+        ImGui::Separator();
+      }
+      ImGui::Text("View");
+      const char* views[] = {"3D", "anterior", "lateral", "probe", "needle"};
+      int v = static_cast<int>(ui.view == render::View::Orbit ? 0 : static_cast<int>(ui.view) + 1);
+      if (ImGui::Combo("camera", &v, views, 5))
+        ui.view = v == 0 ? render::View::Orbit : static_cast<render::View>(v - 1);
+      ImGui::Checkbox("displacement [mm]", &ui.ropt.displacement);
+      if (ui.ropt.displacement) {
+        float m = static_cast<float>(ui.ropt.displacement_max_mm);
+        if (ImGui::SliderFloat("scale max [mm]", &m, 0.5f, 20.0f)) ui.ropt.displacement_max_mm = m;
+      }
+      ImGui::Checkbox("force arrows", &ui.ropt.force_arrows);
+      ImGui::Text("opacity");
+      const auto& surfaces = s.renderer().scene().surfaces;
+      for (size_t i = 0; i < surfaces.size() && i < ui.ropt.opacity.size(); ++i)
+        ImGui::SliderFloat(surfaces[i].name.c_str(), &ui.ropt.opacity[i], 0.0f, 1.0f);
+      if (ImGui::Button("Help (H)")) ui.help = true;
+      ImGui::End();
+
+      ImGui::SetNextWindowPos(ImVec2(ds.x - kRightPanel, 0));
+      ImGui::SetNextWindowSize(ImVec2(kRightPanel, ds.y));
+      ImGui::Begin("Read-outs", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+      if (ImGui::CollapsingHeader("Force versus depth", ImGuiTreeNodeFlags_DefaultOpen)) force_plot(ui, ImVec2(kRightPanel - 20, 190));
+      if (ImGui::CollapsingHeader("Ultrasound", ImGuiTreeNodeFlags_DefaultOpen)) {
+        const ImVec2 p0 = ImGui::GetCursorScreenPos();
+        ImGui::GetWindowDrawList()->AddRectFilled(p0, ImVec2(p0.x + kRightPanel - 20, p0.y + 150), IM_COL32(8, 8, 8, 255));
+        ImGui::GetWindowDrawList()->AddText(ImVec2(p0.x + 10, p0.y + 66), IM_COL32(150, 150, 150, 255),
+                                            "ultrasound image: not available in this build");
+        ImGui::Dummy(ImVec2(kRightPanel - 20, 150));
+      }
+      if (ImGui::CollapsingHeader("Timing", ImGuiTreeNodeFlags_DefaultOpen)) {
+        const LoopTiming t = s.timing();
+        ImGui::Text("sim time %.3f s   tick %lld", snap.time, static_cast<long long>(snap.tick));
+        ImGui::Text("tick rate %.0f Hz   real-time factor %.2f%s", t.achieved_hz, t.realtime_factor, t.slow_motion ? " (slow motion)" : "");
+        ImGui::Text("tick compute p50 %.2f ms  p99 %.2f ms", t.tick_p50_ms, t.tick_p99_ms);
+        ImGui::Text("frame %.1f ms (%.0f fps)", ui.frame_ms, ui.frame_ms > 0 ? 1000.0 / ui.frame_ms : 0.0);
+        if (snap.faulted) ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "FAULT: %s", snap.fault.data());
+      }
+      if (ImGui::CollapsingHeader("Events", ImGuiTreeNodeFlags_DefaultOpen)) {
+        ImGui::BeginChild("log", ImVec2(0, 0), true);
+        for (const auto& l : ui.log) ImGui::TextUnformatted(l.c_str());
+        if (ImGui::GetScrollY() >= ImGui::GetScrollMaxY()) ImGui::SetScrollHereY(1.0f);
+        ImGui::EndChild();
+      }
+      ImGui::End();
+      if (ui.help) help_overlay(ui);
+
+      // --- 3D view: mouse in the middle area ---
+      const float vx = kLeftPanel, vw = std::max(1.0f, ds.x - kLeftPanel - kRightPanel), vh = ds.y;
+      if (!io.WantCaptureMouse) {
+        const ImVec2 d = io.MouseDelta;
+        if (ImGui::IsMouseDown(0) && s.mouse()) s.mouse()->drag(d.y);  // needle depth (device)
+        else if (ImGui::IsMouseDown(0) || ImGui::IsMouseDown(1)) { ui.view = render::View::Orbit; ui.orbit.rotate(-0.3 * d.x, 0.3 * d.y); }
+        if (ImGui::IsMouseDown(2)) { ui.view = render::View::Orbit; ui.orbit.pan(-d.x * ui.orbit.distance / vh, d.y * ui.orbit.distance / vh); }
+        if (io.MouseWheel != 0.0f) ui.orbit.zoom(std::pow(0.9, io.MouseWheel));
+      }
+      ImGui::Render();
+      int fbw = 0, fbh = 0;
+      glfwGetFramebufferSize(win, &fbw, &fbh);
+      const float sx = ds.x > 0 ? fbw / ds.x : 1.0f, sy = ds.y > 0 ? fbh / ds.y : 1.0f;
+      gl::api.BindFramebuffer(GL_FRAMEBUFFER, 0);
+      gl::api.Viewport(0, 0, fbw, fbh);
+      gl::api.ClearColor(0.05f, 0.05f, 0.06f, 1.0f);
+      gl::api.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      s.renderer().update(snap);
+      ui.ropt.viewport_x = static_cast<int>(vx * sx);
+      ui.ropt.viewport_y = 0;
+      ui.ropt.title = s.name() + "  [" + render::view_name(ui.view) + "]" + (ui.paused ? "  PAUSED" : "");
+      s.renderer().render(render::preset_camera(ui.view, s.renderer().scene(), &snap, ui.orbit), static_cast<int>(vw * sx),
+                          static_cast<int>(vh * sy), ui.ropt);
+      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      ++frame;
+      const bool ending = glfwWindowShouldClose(win) || (s.end_tick() >= 0 && snap.tick >= s.end_tick());
+      if (ending) {
+        if (!screenshot.empty()) {
+          std::vector<uint8_t> rgba(4 * static_cast<size_t>(fbw) * fbh), rgb(3 * static_cast<size_t>(fbw) * fbh);
+          gl::api.PixelStorei(GL_PACK_ALIGNMENT, 1);
+          gl::api.ReadPixels(0, 0, fbw, fbh, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+          for (int y = 0; y < fbh; ++y)
+            for (int x = 0; x < fbw; ++x)
+              for (int c = 0; c < 3; ++c) rgb[3 * (static_cast<size_t>(y) * fbw + x) + c] = rgba[4 * (static_cast<size_t>(fbh - 1 - y) * fbw + x) + c];
+          try {
+            ps::write_png_atomic(screenshot, fbw, fbh, 3, rgb.data());
+          } catch (const std::exception& e) {
+            std::fprintf(stderr, "error: %s\n", e.what());
+            rc = 2;
+          }
+        }
+        glfwSetWindowShouldClose(win, GLFW_TRUE);
+      }
+      glfwSwapBuffers(win);
+      const auto now = std::chrono::steady_clock::now();
+      ui.frame_ms = 0.9 * ui.frame_ms + 0.1 * std::chrono::duration<double, std::milli>(now - last).count();
+      last = now;
+      if (pending) {
+        pending = false;
+        if (switch_to(pending_path, pending_record)) push_log(ui, pending_log);
+      }
+    }
+    session.reset();  // stops the physics thread, finishes a recording
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+  }
+  glfwDestroyWindow(win);
+  glfwTerminate();
+  return rc;
+}
+
+}  // namespace ps::gui

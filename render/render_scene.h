@@ -1,0 +1,73 @@
+// What the renderer draws of the tissue, fixed for a compiled scene: each component's closed
+// surface (particle indices and triangles), its colour and default transparency, markers for
+// tagged particles (lesions, targets) and tubes that ride on the tissue (the urethra). Built
+// once from the immutable Model; positions then come from each Snapshot (render/renderer.h).
+// Reads Model data only: render/ knows nothing of the solver.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/draw/draw_sink.h"
+#include "engine/util/vec.h"
+
+namespace ps {
+struct Model;
+}
+
+namespace ps::render {
+
+enum class OrganKind : uint8_t { Prostate, Bladder, Rectum, Fat, Bone, Other };
+
+struct RenderSurface {
+  std::string name;                    // component name
+  OrganKind kind = OrganKind::Other;
+  std::vector<int> particles;          // [nv] particle of each vertex
+  std::vector<uint32_t> indices;       // [3 nf] local vertex indices, outward CCW
+  Rgba colour;                         // base colour; colour.a = default opacity
+};
+
+// Particles of a tag drawn as spheres (lesion, target zone).
+struct RenderMarkers {
+  std::string name;
+  std::vector<int> particles;
+  double radius = 2e-3;                // [m]
+  Rgba colour;
+  DrawRole role = DrawRole::Lesion;
+};
+
+// A polyline carried by the tissue: point k = sum_j w_kj x_{p_kj} + offset_k (4 nearest
+// particles of the host component at rest, inverse-distance weights), drawn as a tube.
+struct RenderTube {
+  std::string name;
+  std::vector<std::array<int, 4>> particles;
+  std::vector<std::array<float, 4>> weights;
+  std::vector<Vec3> offsets;           // [m]
+  double radius = 2.5e-3;              // [m]
+  Rgba colour;
+};
+
+struct RenderScene {
+  std::string name;
+  std::vector<RenderSurface> surfaces;
+  std::vector<RenderMarkers> markers;
+  std::vector<RenderTube> tubes;
+  std::vector<float> rest;             // [3n] rest positions [m] (displacement colouring)
+  Vec3 focus = Vec3::Zero();           // what the cameras look at: prostate centre, else scene [m]
+  double extent = 0.1;                 // radius that the preset views frame [m]
+  int particle_count = 0;
+};
+
+// Style by organ name (prostate, bladder, rectum, fat, bone / pubic / pelvis...).
+OrganKind organ_kind(const std::string& component_name);
+Rgba organ_colour(OrganKind k);
+
+// Builds the scene description. `urethra_csv` (may be empty): a polyline file (x_mm,y_mm,z_mm
+// rows, `#` comments, a header line) bound to the prostate; throws ps::InputError on a bad file.
+RenderScene make_render_scene(const Model& model, const std::string& urethra_csv = "");
+
+// Path of the anatomy's urethra.csv beside the prostate mesh of a scenario, "" if none.
+std::string urethra_file_beside(const std::string& prostate_mesh_file);
+
+}  // namespace ps::render

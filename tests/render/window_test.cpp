@@ -1,0 +1,42 @@
+// The trainee window opens under a virtual X server (xvfb-run), runs frames of the biopsy scene
+// and its screenshot (PROSTATESIM_SCREENSHOT, panels included) is non-empty and shows the panels:
+// text in the left (instruments) and right (read-outs) panels and the pink prostate in the 3D
+// view between them.
+#include <gtest/gtest.h>
+#include <stb_image.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+namespace {
+
+TEST(TraineeWindow, OpensUnderXvfbAndShowsThePanels) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
+  const std::string png = (std::filesystem::temp_directory_path() / ("prostatesim_window_" + std::to_string(::getpid()) + ".png")).string();
+  std::filesystem::remove(png);
+  const std::string cmd = "cd " PROSTATESIM_SOURCE_DIR " && PROSTATESIM_SCREENSHOT=" + png +
+                          " xvfb-run -a -s '-screen 0 1600x900x24' " PROSTATESIM_BINARY
+                          " run config/biopsy.yaml --script config/scripts/biopsy.yaml --duration 0.05 > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  int w = 0, h = 0, n = 0;
+  unsigned char* img = stbi_load(png.c_str(), &w, &h, &n, 3);
+  ASSERT_NE(img, nullptr) << "no screenshot at " << png;
+  EXPECT_EQ(w, 1600);
+  EXPECT_EQ(h, 900);
+  auto count = [&](int x0, int x1, auto pred) {
+    int c = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = x0; x < x1; ++x) c += pred(&img[3 * (static_cast<size_t>(y) * w + x)]);
+    return c;
+  };
+  auto bright = [](const unsigned char* p) { return p[0] > 180 && p[1] > 180 && p[2] > 180; };
+  auto pink = [](const unsigned char* p) { return p[0] > p[1] + 30 && p[0] > p[2] + 30; };
+  EXPECT_GT(count(0, 330, bright), 1500) << "no text in the instruments panel";
+  EXPECT_GT(count(w - 400, w, bright), 1500) << "no text in the read-outs panel";
+  EXPECT_GT(count(330, w - 400, pink), 5000) << "no prostate in the 3D view";
+  stbi_image_free(img);
+  std::filesystem::remove(png);
+}
+
+}  // namespace
