@@ -14,6 +14,7 @@
 #endif
 #include "engine/util/error.h"
 #include "engine/util/sim_fault.h"
+#include "render/render_error.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"ProstateSim: prostate biopsy and brachytherapy simulator (discrete shape-memory tissue model)"};
@@ -58,6 +59,9 @@ int main(int argc, char** argv) {
     spdlog::error("simulation fault: {}", e.what());
     return ps::app::kExitFault;
   } catch (const std::filesystem::filesystem_error& e) {  // an output path the user gave
+    spdlog::error("error: {}", e.what());
+    return ps::app::kExitBadInput;
+  } catch (const ps::render::RenderError& e) {  // no headless GL / no display: the machine, not a bug
     spdlog::error("error: {}", e.what());
     return ps::app::kExitBadInput;
   } catch (const std::bad_alloc&) {
