@@ -17,6 +17,7 @@
 #include "app/commands.h"
 #include "app/run_session.h"
 #include "app/session_capture.h"
+#include "engine/util/error.h"
 #include "haptics/spacemouse.h"
 
 namespace ps::app {

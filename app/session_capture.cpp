@@ -5,6 +5,9 @@
 #include <unistd.h>
 
 #include "app/session_report.h"
+#include "app/session_views.h"
+#include "engine/tools/probe.h"
+#include "engine/ultrasound/from_simulation.h"
 #include "engine/io/png_write.h"
 #include "engine/metrics/metrics_json.h"
 #include "engine/metrics/metrics_options.h"
@@ -22,9 +25,16 @@ std::unique_ptr<SessionCapture> SessionCapture::make(const Scene& scene) {
   return std::unique_ptr<SessionCapture>(new SessionCapture(scene));
 }
 
-SessionCapture::SessionCapture(const Scene& scene) : scene_(scene), needles_(needle_tool_of(scene)) { rewind(); }
+SessionCapture::SessionCapture(const Scene& scene) : scene_(scene), needles_(needle_tool_of(scene)) {
+  gland_ = scene.model->find_component("prostate");
+  if (scene.probe_tool >= 0)
+    for (Shot& sh : shots_) snapshot_of(*scene.sim, sh.snap);  // sizes the buffers once
+  rewind();
+}
 
 void SessionCapture::rewind() {
+  shots_used_ = 0;
+  events_seen_ = needles_.events().total();
   metrics_ = std::make_unique<SessionMetrics>(*scene_.model, needles_, metrics_options_for(scene_.spec));
   rec_ = std::make_unique<ForceDepthRecorder>(needles_.count());
 }
@@ -32,6 +42,21 @@ void SessionCapture::rewind() {
 void SessionCapture::after_tick(int64_t, const Simulation& sim) {
   rec_->sample(needles_, sim.state().time);
   metrics_->observe(needles_, sim.state());
+  const NeedleEvent* first = nullptr;
+  events_seen_ = needles_.events().for_each_since(events_seen_, [&](const NeedleEvent& e) {
+    if (!first && e.kind == NeedleEventKind::Puncture && (gland_ < 0 || e.component == gland_)) first = &e;
+  });
+  if (first && scene_.probe_tool >= 0 && shots_used_ < kPunctureShots) {
+    Shot& sh = shots_[static_cast<size_t>(shots_used_++)];
+    snapshot_of(sim, sh.snap);
+    const auto& probe = static_cast<const ProbeTool&>(*sim.tools().at(scene_.probe_tool));
+    sh.probe = us::probe_view(probe.frame(), probe.spec().radius);
+    sh.time = first->time;
+    sh.depth = first->depth;
+    sh.force = first->force;
+    sh.needle = first->needle;
+    sh.component = first->component;
+  }
 }
 
 SessionReport SessionCapture::report(bool faulted) const { return metrics_->finish(needles_, scene_.sim->state(), faulted); }
@@ -49,7 +74,24 @@ Score SessionCapture::write(const std::string& dir, bool faulted, const std::str
   const Score score = score_session(r);
   const std::string name = !session.empty() ? session : fs::path(dir).lexically_normal().filename().string();
   write_file_atomic(d + "metrics.json", metrics_json(r, score, {trainee, name}));
-  const RgbImage page = render_session_report(m, scene_.sim->state(), needles_, *rec_, r, score);
+  ReportViews views;
+  Snapshot end;
+  snapshot_of(*scene_.sim, end);
+  views.view3d = render_3d_view(scene_, end, r, 800, 600, views.note3d);
+  if (scene_.probe_tool < 0) views.note_us = "no probe in this scenario: no ultrasound image";
+  else if (shots_used_ == 0) views.note_us = "no puncture of the gland in this session";
+  for (int k = 0; k < shots_used_; ++k) {
+    const Shot& sh = shots_[static_cast<size_t>(k)];
+    PunctureShot p;
+    p.time = sh.time;
+    p.depth = sh.depth;
+    p.force = sh.force;
+    p.needle = sh.needle >= 0 ? needles_.spec(sh.needle).name : "";
+    p.organ = sh.component >= 0 ? m.components[static_cast<size_t>(sh.component)].name : "";
+    p.us = render_us(scene_, sh.snap, sh.probe, sh.needle >= 0 ? needles_.spec(sh.needle).direction : Vec3::UnitZ(), 280);
+    views.punctures.push_back(std::move(p));
+  }
+  const RgbImage page = render_session_report(m, scene_.sim->state(), needles_, *rec_, r, score, &views);
   write_png_atomic(d + "report.png", page.width, page.height, 3, page.pixels.data());
   return score;
 }

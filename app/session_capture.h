@@ -2,11 +2,15 @@
 // that applies no command and, after every tick (TickRunner calls after_tick outside
 // Simulation::tick, so the physics step stays free of I/O), feeds the needle session metrics
 // (engine/metrics/session_metrics.h: no allocation) and the force-versus-depth samples. At the end,
-// write() puts metrics.json, report.png (app/session_report.h) and the CSVs of `insert` into a
+// At the first kPunctureShots punctures of the gland (the prostate) the positions and instrument
+// geometry are copied into buffers sized at construction (no allocation while the draw lists
+// stay within the capacity of their first fill) with the probe's pose, so that the report can
+// show the ultrasound image at each puncture. At the end, write() puts metrics.json, report.png (app/session_report.h) and the CSVs of `insert` into a
 // folder, each file atomically.
 // The force-depth samples grow with the run (ForceDepthRecorder: amortised vector growth, on the
 // physics thread between ticks, never inside the step).
 #pragma once
+#include <array>
 #include <memory>
 #include <string>
 
@@ -15,6 +19,7 @@
 #include "engine/realtime/tick_runner.h"
 #include "engine/sim/scene.h"
 #include "engine/tools/needle_output.h"
+#include "engine/ultrasound/scene.h"
 
 namespace ps::app {
 
@@ -36,8 +41,19 @@ class SessionCapture : public CommandSource {
 
  private:
   explicit SessionCapture(const Scene& scene);
+  static constexpr int kPunctureShots = 4;
+  struct Shot {
+    Snapshot snap;
+    us::ProbeView probe;
+    double time = 0.0, depth = 0.0, force = 0.0;
+    int needle = -1, component = -1;
+  };
   const Scene& scene_;
   const NeedleTool& needles_;
+  std::array<Shot, kPunctureShots> shots_;
+  int shots_used_ = 0;
+  int64_t events_seen_ = 0;
+  int gland_ = -1;
   std::unique_ptr<SessionMetrics> metrics_;
   std::unique_ptr<ForceDepthRecorder> rec_;
 };
