@@ -154,14 +154,16 @@ struct Walked {
 
 Walked walk_path(const YAML::Node& root, const std::vector<PathToken>& tokens) {
   Walked w;
-  YAML::Node cur = root;
+  // (reset(), not '=': assigning a YAML::Node that refers to a node rewrites the node itself)
+  YAML::Node cur;
+  cur.reset(root);
   std::string walked;
   for (const PathToken& t : tokens) {
     walked += (walked.empty() ? "" : ".") + t.key;
     if (!cur.IsMap()) throw InputError("", 0, walked, "not inside a mapping");
     const YAML::Node child = cur[t.key];
     if (!child.IsDefined()) throw InputError("", 0, walked, "no such key");
-    cur = child;
+    cur.reset(child);
     w.index = -1;
     if (t.has_selector) {
       if (!cur.IsSequence()) throw InputError("", 0, walked, "not a list");
@@ -176,12 +178,13 @@ Walked walk_path(const YAML::Node& root, const std::vector<PathToken>& tokens) {
         if (found < 0) throw InputError("", 0, walked + "[" + t.selector + "]", "no item named '" + t.selector + "'");
       }
       walked += "[" + t.selector + "]";
-      w.list = cur;
+      w.list.reset(cur);
       w.index = found;
-      cur = cur[static_cast<size_t>(found)];
+      const YAML::Node item = w.list[static_cast<size_t>(found)];
+      cur.reset(item);
     }
   }
-  w.node = cur;
+  w.node.reset(cur);
   return w;
 }
 
@@ -228,7 +231,8 @@ void block_item_extent(const std::string& t, size_t item_pos, size_t& begin, siz
 ValueSpan locate_value(const std::string& text, const std::string& key_path) {
   const std::vector<PathToken> tokens = split_path(key_path);
   const YAML::Node root = load_yaml(text);
-  YAML::Node cur = root;
+  YAML::Node cur;  // reset(), not '=': '=' on a YAML::Node rewrites the node it refers to
+  cur.reset(root);
   bool in_flow = false;
   std::string walked;
   for (size_t k = 0; k < tokens.size(); ++k) {
@@ -290,7 +294,7 @@ ValueSpan locate_value(const std::string& text, const std::string& key_path) {
                          "the value is an alias (" + text.substr(p, text.find_first_of(",}] \n", p) - p) + "): edit the anchored value");
       break;
     }
-    cur = child;
+    cur.reset(child);
     if (t.has_selector) {
       if (!cur.IsSequence()) throw InputError("", 0, walked, "not a list");
       if (cur.Style() == YAML::EmitterStyle::Flow) in_flow = true;
@@ -305,7 +309,7 @@ ValueSpan locate_value(const std::string& text, const std::string& key_path) {
         if (!item.IsDefined()) throw InputError("", 0, walked + "[" + t.selector + "]", "no item named '" + t.selector + "'");
       }
       walked += "[" + t.selector + "]";
-      cur = item;
+      cur.reset(item);
     }
   }
   ValueSpan s;

@@ -99,8 +99,15 @@ TEST(EditorCommands, MaterialsLesionsAndRefusalsNameTheField) {
 TEST(EditorCommands, NeedlePlanOnTheShippedScenes) {
   const std::string dir = std::string(PROSTATESIM_SOURCE_DIR) + "/config/";
   // brachytherapy: a needle through template hole (6, 2) to 60 mm, two seeds on it
+  // the shipped scene's `anterior_edge` needle is aimed at the pubic arch on purpose: the editor
+  // opens it with that error shown, and removing the needle makes it valid
   EditorCommands b = EditorCommands::open(dir + "brachytherapy_template.yaml");
+  ASSERT_FALSE(b.doc().valid());
+  EXPECT_NE(b.doc().error()->message.find("goes through bone 'pubic_arch'"), std::string::npos) << b.doc().error()->message;
+  EXPECT_NE(b.doc().error()->field.find("needles.instruments[1]"), std::string::npos) << b.doc().error()->field;
+  ASSERT_TRUE(b.remove_needle("anterior_edge").ok);
   ASSERT_TRUE(b.doc().valid()) << b.doc().error()->message;
+  const std::string base = b.doc().text();
   const size_t n0 = b.spec()->needles.needles.size();
   EditResult r = b.add_template_needle("t_new", 6, 2, 60.0);
   ASSERT_TRUE(r.ok) << r.issue->field << ": " << r.issue->message;
@@ -113,13 +120,14 @@ TEST(EditorCommands, NeedlePlanOnTheShippedScenes) {
   EXPECT_EQ(b.spec()->needles.needles.back().seed_depths.size(), 2u);
   EXPECT_FALSE(b.add_seed("t_new", 80).ok) << "a seed beyond the scripted depth";
   EXPECT_FALSE(b.add_template_needle("t_off", 40, 2, 60.0).ok) << "a hole off the grid";
+  // the needle planned again at the anterior edge: refused, through bone
+  const EditResult bone = b.doc().add_item("needles.instruments",
+                                           "{name: anterior_edge, preset: brachy_18g, start_mm: [15, 10, -66], direction: [0, 0, 1], script: [[0, 0], [0.3, 0], [3.3, 60]]}");
+  ASSERT_FALSE(bone.ok);
+  EXPECT_NE(bone.issue->message.find("through bone"), std::string::npos) << bone.issue->message;
   ASSERT_TRUE(b.remove_seed("t_new", 0).ok);
   ASSERT_TRUE(b.remove_needle("t_new").ok);
-  EXPECT_EQ(b.doc().text(), ScenarioDocument::open(dir + "brachytherapy_template.yaml").text());
-  // the anterior needle at the pubic arch: a deeper plan goes through bone
-  const EditResult bone = b.set_needle_depth("anterior_edge", 90, 3.3);
-  EXPECT_FALSE(bone.ok);
-  if (bone.issue) EXPECT_NE(bone.issue->message.find("through bone"), std::string::npos) << bone.issue->message;
+  EXPECT_EQ(b.doc().text(), base);
   // biopsy: a planned core in the right mid lateral zone aimed at the lesion; probe and filling
   EditorCommands p = EditorCommands::open(dir + "biopsy.yaml");
   ASSERT_TRUE(p.doc().valid());

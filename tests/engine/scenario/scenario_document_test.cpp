@@ -300,11 +300,11 @@ TEST(ScenarioDocument, AddsAndRemovesListItemsWithUndo) {
   const std::string t0 = d.text();
   EXPECT_EQ(d.item_count("tags"), 2);
   // a lesion (block list of block mappings): a new "- {...}" line after the last item
-  const EditResult add = d.add_item("tags", "{name: lesion_c, component: tissue, region: {sphere: {center_mm: [0, 6, -18], radius_mm: 2.5}}}");
+  const EditResult add = d.add_item("tags", "{name: lesion_c, component: tissue, region: {sphere: {center_mm: [0, 8, -16], radius_mm: 3}}}");
   ASSERT_TRUE(add.ok) << add.issue->message;
   ASSERT_EQ(d.spec()->tags.size(), 3u);
   EXPECT_EQ(d.spec()->tags[2].name, "lesion_c");
-  EXPECT_NEAR(d.spec()->tags[2].region.center.y(), 6e-3, 1e-12);
+  EXPECT_NEAR(d.spec()->tags[2].region.center.y(), 8e-3, 1e-12);
   EXPECT_NE(d.text().find("    region: {sphere: {center_mm: [6, 0, -12], radius_mm: 3}}\n  - {name: lesion_c"), std::string::npos) << d.text();
   EXPECT_NE(d.text().find("# left of the needle"), std::string::npos);
   const std::string t1 = d.text();
@@ -323,7 +323,7 @@ TEST(ScenarioDocument, AddsAndRemovesListItemsWithUndo) {
   EditResult seed = d.add_item("needles.instruments[n2].seeds_mm", "10");
   ASSERT_TRUE(seed.ok) << seed.issue->message;
   ASSERT_TRUE(d.add_item("needles.instruments[n2].seeds_mm", "6").ok);
-  ASSERT_EQ(d.spec()->needles.needles[1].seeds.size(), 2u);
+  ASSERT_EQ(d.spec()->needles.needles[1].seed_depths.size(), 2u);
   EXPECT_NE(d.text().find("seeds_mm: [10, 6]}"), std::string::npos) << d.text();
   // a seed beyond the scripted depth is refused by the parser, naming the seed
   const EditResult deep = d.add_item("needles.instruments[n2].seeds_mm", "40");
@@ -333,7 +333,7 @@ TEST(ScenarioDocument, AddsAndRemovesListItemsWithUndo) {
   EXPECT_NE(d.text().find("seeds_mm: [6]}"), std::string::npos) << d.text();
   ASSERT_TRUE(d.remove_item("needles.instruments[n2].seeds_mm[0]").ok);
   EXPECT_NE(d.text().find("seeds_mm: []}"), std::string::npos) << d.text();
-  EXPECT_TRUE(d.spec()->needles.needles[1].seeds.empty());
+  EXPECT_TRUE(d.spec()->needles.needles[1].seed_depths.empty());
   // removing the needle gives back the text before it, byte for byte
   ASSERT_TRUE(d.remove_item("needles.instruments[n2]").ok);
   EXPECT_EQ(d.text(), t1);
@@ -349,7 +349,7 @@ TEST(ScenarioDocument, AddsAndRemovesListItemsWithUndo) {
   ASSERT_TRUE(d.undo());
   EXPECT_EQ(d.text(), t2);
   ASSERT_TRUE(d.redo());
-  EXPECT_EQ(d.spec()->needles.needles[1].seeds.size(), 1u);
+  EXPECT_EQ(d.spec()->needles.needles[1].seed_depths.size(), 1u);
   // bad paths are refused naming the path
   EXPECT_FALSE(d.remove_item("tags[nope]").ok);
   EXPECT_FALSE(d.remove_item("tags").ok);
@@ -369,7 +369,7 @@ TEST(ScenarioDocument, AddsAndRemovesListItemsWithUndo) {
 TEST(ScenarioDocument, RemovingTheLastItemOfABlockListLeavesAnEmptyList) {
   const std::string text = "a:\n  b: 1\nitems:   # the list\n  # first\n  - {x: 1}\nafter: 2\nflow: [1, 2, 3]\n";
   const std::string t = text_with_item_removed(text, "items[0]");
-  EXPECT_EQ(t, "a:\n  b: 1\nitems: []   # the list\nafter: 2\nflow: [1, 2, 3]\n");
+  EXPECT_EQ(t, "a:\n  b: 1\nitems: [] # the list\nafter: 2\nflow: [1, 2, 3]\n");
   EXPECT_EQ(text_with_item_removed(text, "flow[1]"), "a:\n  b: 1\nitems:   # the list\n  # first\n  - {x: 1}\nafter: 2\nflow: [1, 3]\n");
   EXPECT_EQ(text_with_item_removed(text, "flow[2]"), "a:\n  b: 1\nitems:   # the list\n  # first\n  - {x: 1}\nafter: 2\nflow: [1, 2]\n");
   EXPECT_EQ(text_with_item_removed(text, "flow[0]"), "a:\n  b: 1\nitems:   # the list\n  # first\n  - {x: 1}\nafter: 2\nflow: [2, 3]\n");
