@@ -344,7 +344,10 @@ void needle_panel(EditorCommands& c, FieldErrors& errs, Ui& ui) {
     if (!n.planned_site.empty()) { ImGui::SameLine(); ImGui::TextColored(kDim, "(%s)", n.planned_site.c_str()); }
     ImGui::SameLine();
     if (ImGui::SmallButton("remove")) errs.note(key, c.remove_needle(n.name));
-    vec_field(errs, "target [mm]", key + ".target_mm", n.target ? Vec3(1e3 * *n.target) : Vec3(NAN, NAN, NAN),
+    // no target_mm: the metrics aim at the deepest scripted point; the field starts there
+    Vec3 aim = n.target ? Vec3(1e3 * *n.target) : Vec3(1e3 * n.start);
+    if (!n.target && !n.script.empty()) aim = 1e3 * (n.start + n.script.back().depth * n.direction.normalized());
+    vec_field(errs, n.target ? "target [mm]" : "target [mm] (not set)", key + ".target_mm", aim,
               [&](const Vec3& v) { return c.set_needle_target(n.name, v); });
     if (!n.script.empty()) {
       const double t = n.script.back().t, d = 1e3 * n.script.back().depth;
