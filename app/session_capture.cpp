@@ -1,5 +1,6 @@
 #include "app/session_capture.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -42,21 +43,34 @@ void SessionCapture::rewind() {
 void SessionCapture::after_tick(int64_t, const Simulation& sim) {
   rec_->sample(needles_, sim.state().time);
   metrics_->observe(needles_, sim.state());
-  const NeedleEvent* first = nullptr;
+  // one picture per tick at most: the first puncture or core of this tick; a puncture of the
+  // gland or a core replaces an earlier puncture of another organ (the route) once the slots are full
+  const NeedleEvent* ev = nullptr;
+  bool key = false;
   events_seen_ = needles_.events().for_each_since(events_seen_, [&](const NeedleEvent& e) {
-    if (!first && e.kind == NeedleEventKind::Puncture && (gland_ < 0 || e.component == gland_)) first = &e;
+    const bool core = e.kind == NeedleEventKind::Core;
+    if (e.kind != NeedleEventKind::Puncture && !core) return;
+    const bool k = core || gland_ < 0 || e.component == gland_;
+    if (!ev || (k && !key)) { ev = &e; key = k; }
   });
-  if (first && scene_.probe_tool >= 0 && shots_used_ < kPunctureShots) {
-    Shot& sh = shots_[static_cast<size_t>(shots_used_++)];
-    snapshot_of(sim, sh.snap);
-    const auto& probe = static_cast<const ProbeTool&>(*sim.tools().at(scene_.probe_tool));
-    sh.probe = us::probe_view(probe.frame(), probe.spec().radius);
-    sh.time = first->time;
-    sh.depth = first->depth;
-    sh.force = first->force;
-    sh.needle = first->needle;
-    sh.component = first->component;
-  }
+  if (!ev || scene_.probe_tool < 0) return;
+  int slot = shots_used_ < kPunctureShots ? shots_used_ : -1;
+  if (slot < 0 && key)
+    for (int k = 0; k < kPunctureShots && slot < 0; ++k)
+      if (!shots_[static_cast<size_t>(k)].key) slot = k;
+  if (slot < 0) return;
+  if (slot == shots_used_) ++shots_used_;
+  Shot& sh = shots_[static_cast<size_t>(slot)];
+  snapshot_of(sim, sh.snap);
+  const auto& probe = static_cast<const ProbeTool&>(*sim.tools().at(scene_.probe_tool));
+  sh.probe = us::probe_view(probe.frame(), probe.spec().radius);
+  sh.time = ev->time;
+  sh.depth = ev->depth;
+  sh.force = ev->force;
+  sh.needle = ev->needle;
+  sh.component = ev->component;
+  sh.core = ev->kind == NeedleEventKind::Core;
+  sh.key = key;
 }
 
 SessionReport SessionCapture::report(bool faulted) const { return metrics_->finish(needles_, scene_.sim->state(), faulted); }
@@ -79,15 +93,19 @@ Score SessionCapture::write(const std::string& dir, bool faulted, const std::str
   snapshot_of(*scene_.sim, end);
   views.view3d = render_3d_view(scene_, end, r, 800, 600, views.note3d);
   if (scene_.probe_tool < 0) views.note_us = "no probe in this scenario: no ultrasound image";
-  else if (shots_used_ == 0) views.note_us = "no puncture of the gland in this session";
+  else if (shots_used_ == 0) views.note_us = "no puncture and no core in this session";
+  // in time order (a replaced slot may hold a later event than the next one)
+  std::array<int, kPunctureShots> order{};
+  for (int k = 0; k < shots_used_; ++k) order[static_cast<size_t>(k)] = k;
+  std::sort(order.begin(), order.begin() + shots_used_, [&](int a, int b) { return shots_[static_cast<size_t>(a)].time < shots_[static_cast<size_t>(b)].time; });
   for (int k = 0; k < shots_used_; ++k) {
-    const Shot& sh = shots_[static_cast<size_t>(k)];
+    const Shot& sh = shots_[static_cast<size_t>(order[static_cast<size_t>(k)])];
     PunctureShot p;
     p.time = sh.time;
     p.depth = sh.depth;
     p.force = sh.force;
     p.needle = sh.needle >= 0 ? needles_.spec(sh.needle).name : "";
-    p.organ = sh.component >= 0 ? m.components[static_cast<size_t>(sh.component)].name : "";
+    p.organ = sh.core ? "core" : sh.component >= 0 ? m.components[static_cast<size_t>(sh.component)].name : "";
     p.us = render_us(scene_, sh.snap, sh.probe, sh.needle >= 0 ? needles_.spec(sh.needle).direction : Vec3::UnitZ(), 280);
     views.punctures.push_back(std::move(p));
   }

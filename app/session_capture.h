@@ -2,7 +2,8 @@
 // that applies no command and, after every tick (TickRunner calls after_tick outside
 // Simulation::tick, so the physics step stays free of I/O), feeds the needle session metrics
 // (engine/metrics/session_metrics.h: no allocation) and the force-versus-depth samples. At the end,
-// At the first kPunctureShots punctures of the gland (the prostate) the positions and instrument
+// At up to kPunctureShots punctures or biopsy cores (those of the gland and the cores kept over
+// punctures of the organs on the way, the rectal wall or the skin) the positions and instrument
 // geometry are copied into buffers sized at construction (no allocation while the draw lists
 // stay within the capacity of their first fill) with the probe's pose, so that the report can
 // show the ultrasound image at each puncture. At the end, write() puts metrics.json, report.png (app/session_report.h) and the CSVs of `insert` into a
@@ -47,6 +48,8 @@ class SessionCapture : public CommandSource {
     us::ProbeView probe;
     double time = 0.0, depth = 0.0, force = 0.0;
     int needle = -1, component = -1;
+    bool core = false;             // a biopsy core (else a puncture)
+    bool key = false;              // a core or a puncture of the gland (kept over route punctures)
   };
   const Scene& scene_;
   const NeedleTool& needles_;

@@ -172,7 +172,7 @@ RgbImage render_session_report(const Model& m, const State& s, const NeedleTool&
       blit(img, v3, kW, 0);
     }
     plot::Canvas us(kW, kH);
-    us.text(16, 10, "Ultrasound at each puncture of the gland", {20, 20, 20}, 2);
+    us.text(16, 10, "Ultrasound at the punctures and cores", {20, 20, 20}, 2);
     if (views->punctures.empty()) us.text(16, kH / 2, views->note_us, {120, 120, 120}, 2);
     for (size_t k = 0; k < views->punctures.size() && k < 4; ++k) {
       const PunctureShot& p = views->punctures[k];
@@ -185,7 +185,8 @@ RgbImage render_session_report(const Model& m, const State& s, const NeedleTool&
           const uint8_t* q = &p.us.pixels[3 * (static_cast<size_t>(sy) * p.us.width + sx)];
           us.blend(x0 + x, y0 + y, {q[0], q[1], q[2]}, 1.0);
         }
-      us.text(x0, y0 + side + 4, p.needle + f(" %.2f s, %.1f mm, %.2f N", p.time, 1e3 * p.depth, p.force), {20, 20, 20}, 1);
+      us.text(x0, y0 + side + 4, p.needle + " " + (p.organ == "core" ? std::string("core") : "puncture " + p.organ) +
+                                     f(" %.2f s, %.1f mm, %.2f N", p.time, 1e3 * p.depth, p.force), {20, 20, 20}, 1);
     }
     blit(img, us, kW, kH);
   }

@@ -32,8 +32,8 @@ RgbImage render_3d_view(const Scene& scene, const Snapshot& snap0, const Session
     Snapshot snap = snap0;
     // the report's markers: target carried by the tissue (red), where the needle put its sample (blue)
     for (const NeedleMetrics& n : r.needles) {
-      snap.draw.sphere(n.scored ? n.target_now : n.target_rest, 1.6e-3, Rgba{0.9f, 0.1f, 0.1f, 1.0f}, DrawRole::Target);
-      if (n.scored) snap.draw.sphere(n.sample, 1.3e-3, Rgba{0.15f, 0.35f, 1.0f, 1.0f}, DrawRole::Target);
+      snap.draw.sphere(n.scored ? n.target_now : n.target_rest, 2.5e-3, Rgba{0.9f, 0.1f, 0.1f, 1.0f}, DrawRole::Target);
+      if (n.scored) snap.draw.sphere(n.sample, 2.0e-3, Rgba{0.15f, 0.35f, 1.0f, 1.0f}, DrawRole::Target);
     }
     rr.update(snap);
     render::OffscreenTarget target(w, h, 4);
@@ -66,7 +66,7 @@ RgbImage render_us(const Scene& scene, const Snapshot& snap, const us::ProbeView
   set.width = set.height = size;
   us::UltrasoundScene sc;
   us::scene_from_snapshot(snap, probe, sc);
-  const bool along = std::abs(dir.normalized().dot(probe.axis)) > 0.9;
+  const bool along = std::abs(dir.normalized().dot(probe.axis)) > 0.985;  // within 10 deg: template needles
   us::PlaneImager im(anatomy, set, along ? us::PlaneKind::Transverse : us::PlaneKind::Sagittal);
   const us::UsImage& g = im.render(sc);
   RgbImage out;
