@@ -196,6 +196,7 @@ RgbImage render_session_report(const Model& m, const State& s, const NeedleTool&
   const plot::Rgb ink{20, 20, 20}, dim{90, 90, 90};
   int y = 20;
   auto line = [&](const std::string& s, int scale = 2, plot::Rgb c = {20, 20, 20}) {
+    if (scale == 2 && plot::Canvas::text_width(s, 2) > kW - 40) scale = 1;  // a long line in the small font, not cut
     t.text(24, y, s, c, scale);
     y += plot::Canvas::text_height(scale) + (scale > 2 ? 14 : 8);
   };
