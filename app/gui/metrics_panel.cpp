@@ -92,12 +92,14 @@ void metrics_panel(Session& s, const Snapshot& snap) {
   for (size_t i = 0; i < np; ++i) L.x[i] = Vec3(snap.x[3 * i], snap.x[3 * i + 1], snap.x[3 * i + 2]);
   double sum = 0.0;
   int counted = 0;
-  if (ImGui::BeginTable("live_metrics", 5, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingFixedFit)) {
-    ImGui::TableSetupColumn("needle");
-    ImGui::TableSetupColumn("tip-target mm");
-    ImGui::TableSetupColumn("peak N");
-    ImGui::TableSetupColumn("punct.");
-    ImGui::TableSetupColumn("hit");
+  if (ImGui::BeginTable("live_metrics", 5, ImGuiTableFlags_RowBg)) {
+    // explicit widths: fit-to-content columns start at zero width in the first frames
+    const float cw = ImGui::CalcTextSize("0").x;
+    ImGui::TableSetupColumn("needle", ImGuiTableColumnFlags_WidthFixed, 9 * cw);
+    ImGui::TableSetupColumn("tip-target mm", ImGuiTableColumnFlags_WidthFixed, 13 * cw);
+    ImGui::TableSetupColumn("peak N", ImGuiTableColumnFlags_WidthFixed, 7 * cw);
+    ImGui::TableSetupColumn("punct.", ImGuiTableColumnFlags_WidthFixed, 6 * cw);
+    ImGui::TableSetupColumn("hit", ImGuiTableColumnFlags_WidthStretch);
     ImGui::TableHeadersRow();
     int k = 0;
     for (NeedleLive& n : L.needles) {
