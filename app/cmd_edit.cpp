@@ -1,5 +1,5 @@
 // `prostatesim edit [SCENARIO] [--set KEY=VALUE]... [--save | --save-as FILE] [--frames N]
-//                   [--screenshot PNG]`: the instructor's scenario editor window (app/editor/).
+//                   [--screenshot PNG] [--preview S]`: the instructor's scenario editor window (app/editor/).
 // A build without the window libraries (-DPROSTATESIM_GUI=OFF) says so and exits 2.
 #include <spdlog/spdlog.h>
 
@@ -16,6 +16,7 @@ void add_edit_command(CLI::App& app, Runner& run) {
     std::vector<std::string> sets;
     bool save = false;
     int frames = -1;
+    double preview = 0.0;
   };
   auto a = std::make_shared<Args>();
   CLI::App* sub = app.add_subcommand("edit", "instructor scenario editor window (materials, lesions, targets, filling, probe, needle plan)");
@@ -25,6 +26,8 @@ void add_edit_command(CLI::App& app, Runner& run) {
   sub->add_option("--save-as", a->save_as, "save to this file instead");
   sub->add_option("--frames", a->frames, "close the window after N frames (scripted use, tests)")->check(CLI::PositiveNumber);
   sub->add_option("--screenshot", a->screenshot, "PNG of the window's last frame");
+  sub->add_option("--preview", a->preview, "run the in-place preview this long [s] at the first frame and print its state hash")
+      ->check(CLI::PositiveNumber);
   sub->callback([a, &run] {
     run = [a]() -> int {
 #if PROSTATESIM_HAVE_EDITOR
@@ -35,6 +38,7 @@ void add_edit_command(CLI::App& app, Runner& run) {
       e.save_as = a->save_as;
       e.frames = a->frames;
       e.screenshot = a->screenshot;
+      e.preview_s = a->preview;
       return ps::editor::run_editor(e);
 #else
       spdlog::error("error: `prostatesim edit` needs the GUI build (this binary was built with -DPROSTATESIM_GUI=OFF: no GLFW / Dear ImGui)");

@@ -484,12 +484,20 @@ int run_editor(const EditorArgs& a) {
     Preview pv;
     std::snprintf(ui.open_path, sizeof ui.open_path, "%s", a.scenario.c_str());
     std::string shown_text;  // document text the preview was built from
+    bool scripted_preview_done = false;
     int frame = 0;
     while (!glfwWindowShouldClose(win)) {
       glfwPollEvents();
       if (cmds && cmds->doc().text() != shown_text) {
         rebuild(pv, *cmds, ui);
         shown_text = cmds->doc().text();
+      }
+      if (a.preview_s > 0.0 && !scripted_preview_done && pv.runner) {
+        // scripted preview: the same lock-step ticks as `prostatesim replay` / `run --unpaced`
+        scripted_preview_done = true;
+        pv.runner->advance_to(std::llround(a.preview_s / pv.scene->model->dt));
+        std::printf("preview: %lld ticks, t = %.4g s, state hash %016llx%s\n", static_cast<long long>(pv.runner->tick()),
+                    pv.scene->sim->state().time, static_cast<unsigned long long>(pv.runner->hash()), pv.runner->faulted() ? " (faulted)" : "");
       }
       // preview: the simulation runs in place, a few ticks a frame
       if (pv.running && pv.runner && !pv.runner->faulted()) {

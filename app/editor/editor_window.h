@@ -3,7 +3,8 @@
 // (app/editor/editor_commands.h); this file only lays out widgets, the 3D view (picking and
 // dragging lesions, targets and seeds' needles in the view plane) and the in-place preview.
 // Scripted use (tests, batch fixes): --set KEY=VALUE edits applied at start through the same
-// command path, --save writes the file, --frames N closes after N frames, --screenshot PNG.
+// command path, --save writes the file, --preview S runs the in-place preview S simulated seconds
+// (and prints its state hash), --frames N closes after N frames, --screenshot PNG.
 #pragma once
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@ struct EditorArgs {
   std::string save_as;             // save to this path instead
   int frames = -1;                 // close after this many frames (-1: when the user closes)
   std::string screenshot;          // PNG of the last frame
+  double preview_s = 0.0;          // run the preview this long [s] at the first frame, print its state hash
 };
 
 // Runs the window until it closes. Exit code: 0, 2 when a --set edit or --save was refused (the

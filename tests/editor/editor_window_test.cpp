@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 
@@ -89,6 +90,22 @@ TEST_F(EditorWindow, OpensAppliesAnEditAndSaves) {
   auto pink = [](const unsigned char* p) { return p[0] > p[1] + 30 && p[0] > p[2] + 30; };
   EXPECT_GT(s.count(0, 440, bright), 3000) << "no text in the editing panel";
   EXPECT_GT(s.count(440, 1600, pink), 5000) << "no prostate in the 3D view";
+}
+
+// The preview runs the edited text in place: its state after 0.03 s is bit for bit the state of
+// `prostatesim run --headless --unpaced` on the saved file.
+TEST_F(EditorWindow, PreviewRunsTheEditedSceneAsTheSimulationDoes) {
+  const std::string png = (dir_ / "preview.png").string();
+  ASSERT_EQ(edit("--set materials.prostate.young_kpa=45 --save --preview 0.03", png), 0) << log();
+  std::smatch m;
+  const std::string l = log();
+  ASSERT_TRUE(std::regex_search(l, m, std::regex("preview: 30 ticks, t = 0.03 s, state hash ([0-9a-f]{16})"))) << l;
+  const auto run = ps::test::run_cli("run " + file_.string() + " --headless --unpaced --duration 0.03 --hash");
+  ASSERT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find(m[1].str()), std::string::npos) << "preview " << m[1] << ", run: " << run.out;
+  // and not the state of the file before the edit
+  const auto orig = ps::test::run_cli("run " + std::string(PROSTATESIM_SOURCE_DIR) + "/config/biopsy.yaml --headless --unpaced --duration 0.03 --hash");
+  EXPECT_EQ(orig.out.find(m[1].str()), std::string::npos) << orig.out;
 }
 
 TEST_F(EditorWindow, RefusedEditExits2AndLeavesTheFile) {
