@@ -5,12 +5,17 @@
 // run that recorded it, at any speed, with frames or without. A recording made on another
 // scenario file, another program version or a malformed one exits 2 naming file:line.
 // `--script F` replays a script instead of a recording (same lock-step path).
+// `--report DIR [--trainee T] [--session S]`: the session report at the end (metrics.json with
+// its score, report.png, force-depth and event CSVs; app/session_capture.h), fed after every
+// tick, outside the step.
 #include <spdlog/spdlog.h>
 
 #include <cmath>
 
 #include "app/commands.h"
 #include "app/run_session.h"
+#include "app/session_capture.h"
+#include "engine/util/error.h"
 
 namespace ps::app {
 
@@ -19,6 +24,7 @@ ReplayFrames g_frames;
 
 struct ReplayArgs {
   std::string scenario, recording, script;
+  std::string report, trainee, session;
   bool hash_only = false;
   double duration = -1.0;
 };
@@ -45,9 +51,16 @@ int replay(const ReplayArgs& a) {
     end_tick = static_cast<int64_t>(std::llround(d / m.dt));
   }
   if (a.duration > 0) end_tick = static_cast<int64_t>(std::llround(a.duration / m.dt));
+  std::unique_ptr<SessionCapture> capture;
+  if (!a.report.empty()) {
+    capture = SessionCapture::make(scene);
+    if (!capture) throw InputError(a.scenario, 0, "--report", "the scenario has no needles: section (nothing to score)");
+    prepare_report_dir(a.report, "--report");
+  }
   CommandPlayer player(std::move(cmds));
   LockstepRunner runner(*scene.sim);
   runner.add_source(&player);
+  if (capture) runner.add_source(capture.get());
   int rc = kExitOk;
   if (g_frames.run && g_frames.wanted && g_frames.wanted()) {
     ReplaySession session{scene, runner, end_tick, a.scenario};
@@ -68,6 +81,10 @@ int replay(const ReplayArgs& a) {
   if (rec.complete && runner.tick() == rec.end_tick && h != rec.end_hash) {
     spdlog::error("error: replay diverged: state hash {} at tick {}, the live run recorded {}", hex16(h), runner.tick(), hex16(rec.end_hash));
     return kExitFault;
+  }
+  if (capture) {
+    const Score sc = capture->write(a.report, runner.faulted(), a.trainee, a.session);
+    if (!a.hash_only) std::printf("score %.1f / 100; wrote %s/{metrics.json,report.png,force_depth_<needle>.csv,...}\n", sc.value, a.report.c_str());
   }
   if (runner.faulted()) {
     spdlog::error("error: simulation stopped: {}", scene.sim->state().fault.describe(m));
@@ -90,6 +107,9 @@ void add_replay_command(CLI::App& app, Runner& run) {
   sub->add_flag("--hash", a->hash_only, "print only the final state hash (16 hex digits)");
   sub->add_option("--duration", a->duration, "stop after this simulated time [s] (default: where the recording ends)")
       ->check(CLI::PositiveNumber);
+  sub->add_option("--report", a->report, "session report folder: metrics.json (score), report.png, force-depth CSVs");
+  sub->add_option("--trainee", a->trainee, "trainee name recorded in metrics.json");
+  sub->add_option("--session", a->session, "session name in metrics.json (default: the report folder's name)");
   if (g_frames.add_options) g_frames.add_options(*sub);
   sub->callback([a, sub, &run] {
     if (a->recording.empty() && a->script.empty()) throw CLI::ValidationError("replay", "one of --recording or --script is required");

@@ -22,6 +22,7 @@ class Session {
   ~Session();
 
   const std::string& name() const { return scene_->spec.name; }
+  const Scene& scene() const { return *scene_; }
   const std::string& file() const { return file_; }
   render::Renderer& renderer() { return *renderer_; }
   haptics::MouseKeyboardDevice* mouse() const { return mouse_; }

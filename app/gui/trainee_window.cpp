@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "app/gui/metrics_panel.h"
 #include "app/gui/session.h"
 #include "engine/io/png_write.h"
 #include "haptics/mouse_keyboard.h"
@@ -352,6 +353,7 @@ int run_window(app::RunSession& run) {
                                             "ultrasound image: not available in this build");
         ImGui::Dummy(ImVec2(kRightPanel - 20, 150));
       }
+      if (ImGui::CollapsingHeader("Metrics", ImGuiTreeNodeFlags_DefaultOpen)) metrics_panel(s, snap);
       if (ImGui::CollapsingHeader("Timing", ImGuiTreeNodeFlags_DefaultOpen)) {
         const LoopTiming t = s.timing();
         ImGui::Text("sim time %.3f s   tick %lld", snap.time, static_cast<long long>(snap.tick));
