@@ -3,7 +3,8 @@
 // Snapshot (probe pose, needles and seeds from its DrawList: engine/ultrasound/from_simulation.h)
 // and hands back 8-bit images. The UI submits a snapshot each frame; while the worker is busy a
 // newer submission replaces the waiting one (the panel shows the newest image it finished, at
-// whatever rate the imager sustains), so neither physics nor the UI ever waits on it.
+// whatever rate the imager sustains, using at most a third of a core), so neither physics nor the
+// UI ever waits on it.
 #pragma once
 #include <atomic>
 #include <condition_variable>
