@@ -24,7 +24,6 @@ class Session {
   const std::string& name() const { return scene_->spec.name; }
   const Scene& scene() const { return *scene_; }
   const std::string& file() const { return file_; }
-  const Scene& scene() const { return *scene_; }
   render::Renderer& renderer() { return *renderer_; }
   haptics::MouseKeyboardDevice* mouse() const { return mouse_; }
   int64_t end_tick() const { return end_tick_; }

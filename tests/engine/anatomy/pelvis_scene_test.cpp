@@ -38,6 +38,15 @@ TriMesh surface_mesh(const Model& m, const std::string& name) {
 // Fat block of the default anatomy [m] (assets/anatomy/landmarks.yaml: fat_min, fat_max).
 const Vec3 kFatMin(-60e-3, -70e-3, -62e-3), kFatMax(60e-3, 56e-3, 124e-3);
 
+// Compile warnings other than the tet model's note on the sliver and hull elements it leaves out
+// of a mesh-filled component (expected for every organ mesh: it is information, not a fault).
+std::vector<std::string> real_warnings(const CompileReport& rep) {
+  std::vector<std::string> out;
+  for (const std::string& w : rep.warnings)
+    if (w.find("tet model left out") == std::string::npos) out.push_back(w);
+  return out;
+}
+
 bool inside_box(const Vec3& x, double margin) {
   return (x.array() >= kFatMin.array() - margin).all() && (x.array() <= kFatMax.array() + margin).all();
 }
@@ -50,7 +59,8 @@ TEST(BiopsyScene, CompilesWithinTwoSecondsIntoTheParticleBudget) {
   EXPECT_GE(m.particle_count(), 1000);
   EXPECT_LE(m.particle_count(), 5000);
   for (const char* c : {"prostate", "bladder", "rectum", "pubic_arch", "fat"}) EXPECT_GT(comp(m, c).particle_count, 50) << c;
-  EXPECT_TRUE(rep.warnings.empty()) << rep.warnings.front();   // substeps suffice, spacings calibrated
+  const auto warn = real_warnings(rep);
+  EXPECT_TRUE(warn.empty()) << warn.front();   // substeps suffice, no orphan particle
   EXPECT_TRUE(m.surfaces[comp(m, "prostate").surface].volume_constrained);
   EXPECT_TRUE(m.surfaces[comp(m, "bladder").surface].volume_constrained);
   EXPECT_FALSE(m.surfaces[comp(m, "rectum").surface].volume_constrained);
@@ -99,17 +109,32 @@ TEST(BiopsyScene, ZonesAndTheLesionAreTagged) {
   const int lesion = m.find_tag("lesion"), right = m.find_tag("right"), pz = m.find_tag("peripheral");
   int n_lesion = 0;
   for (int p = pr.first_particle; p < pr.first_particle + pr.particle_count; ++p) {
-    if (!(m.particle_tags[p] >> lesion & 1)) {
-      EXPECT_DOUBLE_EQ(m.k_e[p], shape_memory_stiffness(40e3, pr.spacing));
-      continue;
-    }
+    EXPECT_EQ(m.k_e[p], 0.0);   // model: tet: the elements carry the stiffness, no shape memory
+    if (!(m.particle_tags[p] >> lesion & 1)) continue;
     ++n_lesion;
     EXPECT_TRUE(m.particle_tags[p] >> right & 1);
     EXPECT_TRUE(m.particle_tags[p] >> pz & 1);
-    EXPECT_DOUBLE_EQ(m.k_e[p], shape_memory_stiffness(100e3, pr.spacing));   // the lesion override
     EXPECT_DOUBLE_EQ(m.k_c[p], 2.5);
   }
   EXPECT_GE(n_lesion, 3);
+  // the lesion override reaches the elements: an element's shear modulus is the mean of its
+  // vertices', mu = E / (2 (1 + nu)) with nu = 0.49 (incompressible: true)
+  const double mu_gland = 40e3 / (2 * 1.49), mu_lesion = 100e3 / (2 * 1.49);
+  int with_lesion = 0, no_lesion = 0;
+  for (int t = 0; t < m.tets.count(); ++t) {
+    int in_lesion = 0, in_prostate = 0;
+    for (int i = 0; i < 4; ++i) {
+      const int p = m.tets.v[4 * t + i];
+      in_prostate += m.component_of[p] == m.find_component("prostate");
+      in_lesion += static_cast<int>(m.particle_tags[p] >> lesion & 1);
+    }
+    if (in_prostate < 4) continue;
+    const double want = mu_gland + 0.25 * in_lesion * (mu_lesion - mu_gland);
+    EXPECT_NEAR(m.tets.mu[t], want, 1e-9 * want) << "element " << t;
+    (in_lesion > 0 ? with_lesion : no_lesion)++;
+  }
+  EXPECT_GE(with_lesion, 3);
+  EXPECT_GE(no_lesion, 100);
 }
 
 TEST(BiopsyScene, StaysFiniteInBoundsAndIncompressibleUnderGravity) {
@@ -119,7 +144,10 @@ TEST(BiopsyScene, StaysFiniteInBoundsAndIncompressibleUnderGravity) {
   const auto err = volume_errors(*model, sim.state());
   EXPECT_LE(err.at("prostate"), 1e-9);
   EXPECT_LE(err.at("bladder"), 1e-9);
-  for (const Vec3& x : sim.state().x) ASSERT_TRUE(inside_box(x, 1e-3));
+  // 3 mm: the free perineal face bulges ~1.2 mm out of the block within the first 25 ms (the
+  // nearly incompressible tet fat, nu = 0.45, squeezed towards the left wall); flying off would
+  // be metres
+  for (const Vec3& x : sim.state().x) ASSERT_TRUE(inside_box(x, 3e-3));
   EXPECT_GT(max_speed(sim.state()), 1e-3);   // gravity acts ...
   EXPECT_LT(max_speed(sim.state()), 0.5);    // ... without anything flying off
 }
@@ -155,10 +183,12 @@ TEST(BiopsyScene, CoarserPelvisSettlesUnderGravityWithVolumesHeld) {
   const Component& pr = comp(m, "prostate");
   double sag = 0.0;
   for (int p = 0; p < m.particle_count(); ++p) {
-    ASSERT_TRUE(inside_box(sim.state().x[p], 1e-3)) << p;
+    ASSERT_TRUE(inside_box(sim.state().x[p], 3e-3)) << p;   // the free perineal face bulges (above)
     if (m.component_of[p] == m.find_component("prostate")) sag = std::max(sag, (sim.state().x[p] - m.rest_pos[p]).norm());
   }
-  EXPECT_GT(sag, 1e-3);    // the gland sinks towards the patient's left ...
+  // the gland sinks towards the patient's left (measured 0.96 mm: the tet fat, nu = 0.45, is
+  // confined by five fixed walls; the paper model, softer, gave ~2.4 mm) ...
+  EXPECT_GT(sag, 0.3e-3);
   EXPECT_LT(sag, 15e-3);   // ... held by the fat, bladder and rectum
   EXPECT_GT(pr.particle_count, 50);
 }
@@ -187,7 +217,8 @@ TEST(ScenarioLibrary, BrachytherapyAndBladderFillingCompile) {
     const ScenarioSpec spec = parse_scenario_file(config(f));
     const auto m = compile_scenario(spec, &rep);
     EXPECT_LE(rep.seconds, 2.0) << f;
-    EXPECT_TRUE(rep.warnings.empty()) << f << ": " << rep.warnings.front();
+    const auto warn = real_warnings(rep);
+    EXPECT_TRUE(warn.empty()) << f << ": " << warn.front();
     EXPECT_EQ(m->find_component("pubic_arch") >= 0, true) << f;
     EXPECT_DOUBLE_EQ(m->gravity.y(), -9.81) << f;   // supine / lithotomy
   }
