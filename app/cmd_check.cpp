@@ -35,6 +35,7 @@ void add_check_command(CLI::App& app, Runner& run) {
       std::printf("largest stable substep %.4g s (undamped linearisation); using %d substep(s) of %.4g s per %.4g s tick\n",
                   m.stable_dt_estimate, m.substeps, m.dt / m.substeps, m.dt);
       for (const auto& w : rep.warnings) std::printf("warning: %s\n", w.c_str());
+      for (const auto& w : rep.notes) std::printf("note: %s\n", w.c_str());
       return kExitOk;
     };
   });

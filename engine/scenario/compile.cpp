@@ -256,7 +256,7 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   m.gravity = spec.gravity;
   m.redistribution = spec.linear_redistribution ? Redistribution::Linear : Redistribution::Gradient;
   m.max_triplets = spec.max_triplets;
-  std::vector<std::string> warnings;
+  std::vector<std::string> warnings, notes;
 
   // particles of every component, contiguous per component
   std::vector<std::vector<int>> nbrs;  // global neighbour lists, filled per component then links
@@ -561,7 +561,9 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
       if (a >= 0 && b >= 0 && tet[m.components[a].first_particle].mu > 0.0 && tet[m.components[b].first_particle].mu > 0.0)
         tet_links.push_back(TetLink{a, b, l.distance});
     }
-    for (auto& w : build_tet_elements(m, tet, excluded, tet_links)) warnings.push_back(w);
+    // dropping slivers and hull elements is by design (tet_elements.cpp): a note, not a warning
+    for (auto& w : build_tet_elements(m, tet, excluded, tet_links))
+      (w.find("left out") != std::string::npos ? notes : warnings).push_back(w);
     // a particle no element reaches keeps the lattice shape-matching stiffness mu h of the
     // paper's term, so it stays attached to its neighbours
     for (int p = 0; p < n; ++p)
@@ -594,7 +596,7 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
 
   // stability: raise substeps so each substep is at most 90% of the estimated limit, or (with
   // solver.mass_scaling) add inertia to the particles that set the limit
-  if (spec.multirate) warnings.push_back(partition_tet_rates(m, 0.9));
+  if (spec.multirate) notes.push_back(partition_tet_rates(m, 0.9));
   // with multi-rate the substep is set by the fast group (the held slow force is a constant
   // within a tick); the slow group was checked against the tick above
   m.stable_dt_estimate = estimate_stable_dt(m, m.tets.multirate() ? TetPass::FastOnly : TetPass::All);
@@ -628,6 +630,7 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   m.compile_warnings = warnings;
   if (report) {
     report->warnings = warnings;
+    report->notes = notes;
     report->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   }
   return model;

@@ -14,6 +14,7 @@ namespace ps {
 
 struct CompileReport {
   std::vector<std::string> warnings;   // e.g. substeps raised for stability
+  std::vector<std::string> notes;      // information, not a fault: elements the tet model left out
   double seconds = 0.0;                // wall time of the compile (not physics)
 };
 
