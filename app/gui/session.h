@@ -8,6 +8,7 @@
 #include <string>
 
 #include "app/run_session.h"
+#include "engine/sim/watchdog.h"
 #include "render/renderer.h"
 
 namespace ps::gui {
@@ -27,6 +28,7 @@ class Session {
   haptics::MouseKeyboardDevice* mouse() const { return mouse_; }
   int64_t end_tick() const { return end_tick_; }
   PhysicsLoop& loop() { return *loop_; }
+  const Scene& scene() const { return *scene_; }
 
   // Newest snapshot; new_events(): its events when it is new since the previous latest() call.
   const Snapshot& latest();
@@ -57,6 +59,7 @@ class Session {
   std::string file_;
   std::unique_ptr<Scene> own_scene_;
   std::unique_ptr<RecordingWriter> recorder_;
+  std::unique_ptr<Watchdog> watchdog_;
   std::unique_ptr<PhysicsLoop> own_loop_;
   Scene* scene_ = nullptr;
   PhysicsLoop* loop_ = nullptr;
