@@ -18,8 +18,6 @@
 namespace ps {
 namespace {
 
-constexpr double kCoarse = 1.6;
-
 struct Outcome {
   int64_t ticks = 0, end_tick = 0;
   int64_t applied = 0, refused = 0, commands = 0;
@@ -34,13 +32,7 @@ bool slow_tests() {
 
 Outcome run_shipped(const std::string& scene_file, const std::string& script_file) {
   const std::string dir = std::string(PROSTATESIM_SOURCE_DIR) + "/config/";
-  ScenarioSpec spec = parse_scenario_text(test::read_text(dir + scene_file), scene_file);
-  // coarser lattices around the gland (links reach as far in spacings); the prostate, which the
-  // needles and the lesion use, keeps its own
-  for (ComponentSpec& c : spec.components)
-    if (c.spacing > 0 && c.name != "prostate") c.spacing *= kCoarse;
-  for (auto& l : spec.links) l.distance *= kCoarse;
-  Scene sc = build_scene(spec);
+  Scene sc = load_scene(dir + scene_file);
   const Script s = parse_script_file(dir + "scripts/" + script_file);
   std::vector<Command> cmds = script_commands(s, sc);
   Outcome o;
@@ -64,7 +56,7 @@ Outcome run_shipped(const std::string& scene_file, const std::string& script_fil
   o.applied = run.applier().applied();
   o.refused = run.applier().refused();
   for (int i = 0; i < run.applier().refusals().size(); ++i) ADD_FAILURE() << run.applier().refusals().at(i).describe();
-  std::printf("%s + scripts/%s (coarse, %d particles): %lld ticks, %lld commands, %d punctures, %d cores, %d seeds\n",
+  std::printf("%s + scripts/%s (%d particles): %lld ticks, %lld commands, %d punctures, %d cores, %d seeds\n",
               scene_file.c_str(), script_file.c_str(), sc.model->particle_count(), static_cast<long long>(o.ticks),
               static_cast<long long>(o.applied), o.punctures, o.cores, o.seeds);
   return o;
