@@ -34,7 +34,10 @@ SavedState read_state_file(const std::string& path) {
   if (!f) throw InputError(path, 0, "", "cannot read saved state");
   std::ostringstream ss;
   ss << f.rdbuf();
-  const std::string text = ss.str();
+  return parse_state_text(ss.str(), path);
+}
+
+SavedState parse_state_text(const std::string& text, const std::string& path) {
   SavedState s;
   size_t pos = 0;
   auto next_line = [&](int ln, const char* key) {
