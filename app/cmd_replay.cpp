@@ -9,6 +9,9 @@
 // first that differs is named (file:line, tick) and the exit code is 3. A simulation fault stops
 // the replay, not the program: it is printed with tick, time and particle, --save-on-fault FILE
 // writes the last good state, exit 3.
+// `--report DIR [--trainee T] [--session S]`: the session report at the end (metrics.json with
+// its score, report.png, force-depth and event CSVs; app/session_capture.h), fed after every
+// tick, outside the step.
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -18,6 +21,8 @@
 
 #include "app/commands.h"
 #include "app/run_session.h"
+#include "app/session_capture.h"
+#include "engine/util/error.h"
 
 namespace ps::app {
 
@@ -26,6 +31,7 @@ ReplayFrames g_frames;
 
 struct ReplayArgs {
   std::string scenario, recording, script, save_on_fault, inject;
+  std::string report, trainee, session;
   bool hash_only = false, no_watchdog = false;
   double duration = -1.0;
 };
@@ -53,9 +59,16 @@ int replay(const ReplayArgs& a) {
   }
   if (a.duration > 0) end_tick = static_cast<int64_t>(std::llround(a.duration / m.dt));
   const FaultInjection inject = parse_fault_injection(a.inject);
+  std::unique_ptr<SessionCapture> capture;
+  if (!a.report.empty()) {
+    capture = SessionCapture::make(scene);
+    if (!capture) throw InputError(a.scenario, 0, "--report", "the scenario has no needles: section (nothing to score)");
+    prepare_report_dir(a.report, "--report");
+  }
   CommandPlayer player(std::move(cmds));
   LockstepRunner runner(*scene.sim);
   runner.add_source(&player);
+  if (capture) runner.add_source(capture.get());
   HashVerifier verifier(rec);
   if (!a.recording.empty() && rec.header.hash_every > 0) runner.runner().set_hash_observer(&verifier, rec.header.hash_every);
   const Watchdog watchdog(m);
@@ -93,6 +106,10 @@ int replay(const ReplayArgs& a) {
                   runner.tick(), hex16(rec.end_hash));
     return kExitFault;
   }
+  if (capture) {
+    const Score sc = capture->write(a.report, runner.faulted(), a.trainee, a.session);
+    if (!a.hash_only) std::printf("score %.1f / 100; wrote %s/{metrics.json,report.png,force_depth_<needle>.csv,...}\n", sc.value, a.report.c_str());
+  }
   if (runner.faulted()) {
     spdlog::error("error: simulation fault, the replay stopped at {}", runner.runner().fault_text());
     if (rec.fault_tick == runner.tick()) spdlog::error("(the live run faulted at the same tick: the fault replays)");
@@ -122,6 +139,9 @@ void add_replay_command(CLI::App& app, Runner& run) {
   sub->add_option("--save-on-fault", a->save_on_fault, "when the physics faults, write the last good state to FILE (atomically)");
   sub->add_flag("--no-watchdog", a->no_watchdog, "do not check energy growth, volume drift and particles leaving the scene each tick");
   sub->add_option("--inject-fault", a->inject, "")->group("");  // test hook: nan@TICK or throw@TICK
+  sub->add_option("--report", a->report, "session report folder: metrics.json (score), report.png, force-depth CSVs");
+  sub->add_option("--trainee", a->trainee, "trainee name recorded in metrics.json");
+  sub->add_option("--session", a->session, "session name in metrics.json (default: the report folder's name)");
   if (g_frames.add_options) g_frames.add_options(*sub);
   sub->callback([a, sub, &run] {
     if (a->recording.empty() && a->script.empty()) throw CLI::ValidationError("replay", "one of --recording or --script is required");

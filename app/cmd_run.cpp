@@ -1,10 +1,12 @@
 // `prostatesim run SCENARIO [--script F] [--record FILE] [--headless] [--duration S] [--hash]
-//                           [--factor X] [--unpaced]`
+//                           [--factor X] [--unpaced] [--report DIR [--trainee T] [--session S]]`
 // Runs the scene on the real-time physics thread (engine/realtime/physics_loop.h). With a
 // registered window frontend and a display (and no --headless) the trainee window drives it;
 // otherwise it runs headless for --duration (default: the script's, else the scenario's).
 // --record writes every applied command with its tick (engine/realtime/recording.h); at the end
 // the state hash is printed (16 hex digits; the same as `replay --hash` of the recording).
+// --report DIR: the session report at the end (metrics.json with its score, report.png, the
+// force-depth and event CSVs; app/session_capture.h), fed after every tick outside the step.
 // Bad input (scenario, script, options) exits 2 before anything is written.
 // Recovery (issue 14): a simulation fault (NaN, blow-up, a watchdog finding) stops the physics,
 // never the program: the fault is printed with its tick, time and particle, the recording is
@@ -21,6 +23,7 @@
 
 #include "app/commands.h"
 #include "app/run_session.h"
+#include "app/session_capture.h"
 #include "engine/realtime/state_file.h"
 #include "engine/sim/watchdog.h"
 #include "engine/util/error.h"
@@ -34,6 +37,7 @@ WindowFrontend g_window = nullptr;
 
 struct RunArgs {
   std::string scenario, script, record, device = "auto", probe_device = "none", save_on_fault, inject;
+  std::string report, trainee, session;
   bool headless = false, hash_only = false, unpaced = false, no_watchdog = false;
   double duration = -1.0, factor = 1.0;
 };
@@ -86,6 +90,12 @@ int run_live(const RunArgs& a) {
   if (duration <= 0 && !windowed) duration = script && script->duration > 0 ? script->duration : m.duration;
   const int64_t end_tick = duration > 0 ? static_cast<int64_t>(std::llround(duration / m.dt)) : -1;
 
+  std::unique_ptr<SessionCapture> capture;
+  if (!a.report.empty()) {
+    capture = SessionCapture::make(scene);
+    if (!capture) throw InputError(a.scenario, 0, "--report", "the scenario has no needles: section (nothing to score)");
+    prepare_report_dir(a.report, "--report");
+  }
   std::unique_ptr<RecordingWriter> rec;
   const FaultInjection inject = parse_fault_injection(a.inject);
   if (!a.record.empty()) rec = std::make_unique<RecordingWriter>(a.record, RecordingHeader{scene.spec.name, scene.content_hash, m.dt, m.substeps});
@@ -133,6 +143,7 @@ int run_live(const RunArgs& a) {
   if (player) loop.add_source(player.get());
   if (device) loop.add_source(device.get());
   if (probe_device) loop.add_source(probe_device.get());
+  if (capture) loop.add_source(capture.get());
   if (rec) {
     loop.applier().set_observer(rec.get());
     loop.set_hash_observer(rec.get(), rec->hash_every());
@@ -178,6 +189,10 @@ int run_live(const RunArgs& a) {
     std::printf("state hash %s\n", hex16(h).c_str());
   }
   if (loop.internal_error()) throw std::logic_error(loop.fault_text());  // main: exit 4, asks for a report
+  if (capture) {
+    const Score sc = capture->write(a.report, loop.faulted(), a.trainee, a.session);
+    if (!a.hash_only) std::printf("score %.1f / 100; wrote %s/{metrics.json,report.png,force_depth_<needle>.csv,...}\n", sc.value, a.report.c_str());
+  }
   if (loop.faulted()) {
     spdlog::error("error: simulation fault, the physics stopped at {}", loop.fault_text());
     SavedState st;
@@ -212,6 +227,9 @@ void add_run_command(CLI::App& app, Runner& run) {
   sub->add_flag("--no-watchdog", a->no_watchdog, "do not check energy growth, volume drift and particles leaving the scene each tick");
   // test hook: a NaN injected into particle 0 before tick N (nan@N) or an exception (throw@N)
   sub->add_option("--inject-fault", a->inject, "")->group("");
+  sub->add_option("--report", a->report, "session report folder: metrics.json (score), report.png, force-depth CSVs");
+  sub->add_option("--trainee", a->trainee, "trainee name recorded in metrics.json");
+  sub->add_option("--session", a->session, "session name in metrics.json (default: the report folder's name)");
   sub->callback([a, &run] { run = [a] { return run_live(*a); }; });
 }
 

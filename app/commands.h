@@ -32,5 +32,6 @@ void add_run_command(CLI::App& app, Runner& run);           // cmd_run.cpp (real
 void add_replay_command(CLI::App& app, Runner& run);        // cmd_replay.cpp (record/replay)
 void add_stress_command(CLI::App& app, Runner& run);        // cmd_stress.cpp (app/stress.h)
 void add_bench_command(CLI::App& app, Runner& run);         // cmd_bench.cpp
+void add_edit_command(CLI::App& app, Runner& run);          // cmd_edit.cpp (app/editor/)
 
 }  // namespace ps::app

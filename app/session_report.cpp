@@ -118,7 +118,7 @@ plot::Chart scene_view(const Model& m, const State& s, const NeedleTool& tool, c
 }  // namespace
 
 RgbImage render_session_report(const Model& m, const State& s, const NeedleTool& tool, const ForceDepthRecorder& rec,
-                               const SessionReport& r, const Score& score) {
+                               const SessionReport& r, const Score& score, const ReportViews* views) {
   // force versus depth
   plot::Chart fd;
   fd.title = "Force versus depth (punctures marked)";
@@ -150,20 +150,53 @@ RgbImage render_session_report(const Model& m, const State& s, const NeedleTool&
   if (!punct.x.empty()) fd.series.push_back(punct);
 
   RgbImage img;
-  img.width = 2 * kW;
+  const int col = views ? 2 : 1;  // column of the projections
+  img.width = (col + 1) * kW;
   img.height = 2 * kH;
   img.pixels.assign(static_cast<size_t>(img.width) * img.height * 3, 255);
   blit(img, plot::render(fd, kW, kH), 0, 0);
   blit(img, plot::render(scene_view(m, s, tool, r, 1, 2, "Sagittal view at the end (y-z)", "y, anterior [mm]", "z, superior [mm]"), kW, kH),
-       kW, 0);
+       col * kW, 0);
   blit(img, plot::render(scene_view(m, s, tool, r, 0, 2, "Coronal view at the end (x-z)", "x, patient right [mm]", "z, superior [mm]"), kW, kH),
-       kW, kH);
+       col * kW, kH);
+  if (views) {
+    if (views->view3d.width == kW && views->view3d.height == kH) {
+      for (int y = 0; y < kH; ++y)
+        std::copy_n(views->view3d.pixels.begin() + static_cast<long>(y) * kW * 3, kW * 3,
+                    img.pixels.begin() + (static_cast<long>(y) * img.width + kW) * 3);
+    } else {
+      plot::Canvas v3(kW, kH);
+      v3.text(24, kH / 2 - 20, "3D view", {20, 20, 20}, 3);
+      v3.text(24, kH / 2 + 20, views->note3d.substr(0, 70), {160, 40, 40}, 2);
+      if (views->note3d.size() > 70) v3.text(24, kH / 2 + 44, views->note3d.substr(70, 70), {160, 40, 40}, 2);
+      blit(img, v3, kW, 0);
+    }
+    plot::Canvas us(kW, kH);
+    us.text(16, 10, "Ultrasound at the punctures and cores", {20, 20, 20}, 2);
+    if (views->punctures.empty()) us.text(16, kH / 2, views->note_us, {120, 120, 120}, 2);
+    for (size_t k = 0; k < views->punctures.size() && k < 4; ++k) {
+      const PunctureShot& p = views->punctures[k];
+      const int x0 = 16 + static_cast<int>(k % 2) * (kW / 2), y0 = 40 + static_cast<int>(k / 2) * (kH / 2 - 14);
+      const int side = std::min(kW / 2 - 32, kH / 2 - 60);
+      // nearest-neighbour scale of the grayscale image into side x side
+      for (int y = 0; y < side && p.us.height > 0; ++y)
+        for (int x = 0; x < side; ++x) {
+          const int sx = x * p.us.width / side, sy = y * p.us.height / side;
+          const uint8_t* q = &p.us.pixels[3 * (static_cast<size_t>(sy) * p.us.width + sx)];
+          us.blend(x0 + x, y0 + y, {q[0], q[1], q[2]}, 1.0);
+        }
+      us.text(x0, y0 + side + 4, p.needle + " " + (p.organ == "core" ? std::string("core") : "puncture " + p.organ) +
+                                     f(" %.2f s, %.1f mm, %.2f N", p.time, 1e3 * p.depth, p.force), {20, 20, 20}, 1);
+    }
+    blit(img, us, kW, kH);
+  }
 
   // the numbers
   plot::Canvas t(kW, kH);
   const plot::Rgb ink{20, 20, 20}, dim{90, 90, 90};
   int y = 20;
   auto line = [&](const std::string& s, int scale = 2, plot::Rgb c = {20, 20, 20}) {
+    if (scale == 2 && plot::Canvas::text_width(s, 2) > kW - 40) scale = 1;  // a long line in the small font, not cut
     t.text(24, y, s, c, scale);
     y += plot::Canvas::text_height(scale) + (scale > 2 ? 14 : 8);
   };

@@ -20,16 +20,18 @@ int fast_error(const std::string& scene, int substeps, int mass_scaling, int tri
                int ref_substeps) {
   const ScenarioSpec ref_spec0 = realtime_scene(scene);
   if (ref_substeps <= 0) ref_substeps = 2 * ref_spec0.substeps;
-  const ScenarioSpec ref_spec = realtime_scene(scene, 0, ref_substeps, 0);
+  const ScenarioSpec ref_spec = realtime_scene(scene, 0, ref_substeps, 0, 0);  // plain explicit, every element every substep
   const ScenarioSpec fast_spec = realtime_scene(scene, triplets, substeps, mass_scaling);
   auto ref_model = compile_scenario(ref_spec);
   auto fast_model = compile_scenario(fast_spec);
   const Vec3 target = realtime_target(scene, ref_spec);
   std::printf("%s: reference all triplets, %d substeps (estimate %.4g ms); fast %d triplets, %d substeps "
-              "(estimate %.4g ms), mass scaling %s (added inertia %.4g g, largest factor %.3g); %.3f s\n",
+              "(estimate %.4g ms), mass scaling %s (added inertia %.4g g, largest factor %.3g), multirate %s "
+              "(%d of %d tet elements once per tick); %.3f s\n",
               scene.c_str(), ref_model->substeps, ref_model->stable_dt_estimate * 1e3, triplets, fast_model->substeps,
               fast_model->stable_dt_estimate * 1e3, fast_spec.mass_scaling ? "on" : "off",
-              fast_model->added_inertia * 1e3, fast_model->largest_inertia_factor, duration);
+              fast_model->added_inertia * 1e3, fast_model->largest_inertia_factor, fast_spec.multirate ? "on" : "off",
+              fast_model->tets.count() - fast_model->tets.fast_count, fast_model->tets.count(), duration);
   std::fflush(stdout);
   const Trajectory ref = record_trajectory(ref_spec, ref_model, duration, target);
   const Trajectory fast = record_trajectory(fast_spec, fast_model, duration, target);

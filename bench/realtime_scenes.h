@@ -5,7 +5,7 @@
 //                  ~8 mm, into the gland
 //   brachytherapy  config/brachytherapy.yaml as written (its needles advance at 20 mm/s from 0.3 s)
 // `triplets`, `substeps`, `mass_scaling` override solver.triplets (0: all), time.substeps and
-// solver.mass_scaling (0 off, 1 on) when >= 0.
+// solver.mass_scaling (0 off, 1 on) and solver.multirate (0 off, 1 on) when >= 0.
 #pragma once
 #include <string>
 
@@ -14,13 +14,14 @@
 namespace ps::bench {
 
 inline ScenarioSpec realtime_scene(const std::string& name, int triplets = -1, int substeps = -1,
-                                   int mass_scaling = -1) {
+                                   int mass_scaling = -1, int multirate = -1) {
   ScenarioSpec spec = parse_scenario_file(std::string(PROSTATESIM_SOURCE_DIR) + "/config/" + name + ".yaml");
   if (name == "biopsy" && !spec.needles.needles.empty() && spec.needles.needles[0].script.empty())
     spec.needles.needles[0].script = {{0.0, 0.0}, {1.0, 40e-3}};
   if (triplets >= 0) spec.max_triplets = triplets;
   if (substeps > 0) spec.substeps = substeps;
   if (mass_scaling >= 0) spec.mass_scaling = mass_scaling != 0;
+  if (multirate >= 0) spec.multirate = multirate != 0;
   return spec;
 }
 

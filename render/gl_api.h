@@ -42,7 +42,10 @@ namespace ps::gl {
   X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                                                \
   X(PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC, RenderbufferStorageMultisample)                    \
   X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                                          \
-  X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer) X(PFNGLSCISSORPROC, Scissor)
+  X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer) X(PFNGLSCISSORPROC, Scissor)                     \
+  X(PFNGLGENTEXTURESPROC, GenTextures) X(PFNGLDELETETEXTURESPROC, DeleteTextures)               \
+  X(PFNGLBINDTEXTUREPROC, BindTexture) X(PFNGLTEXIMAGE2DPROC, TexImage2D)                       \
+  X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D) X(PFNGLTEXPARAMETERIPROC, TexParameteri)
 
 struct Api {
 #define PS_GL_DECLARE(type, name) type name = nullptr;

@@ -110,7 +110,9 @@ RenderScene make_render_scene(const Model& m, const std::string& urethra_csv) {
         mk.particles.push_back(p);
         h = std::max(h, m.components[m.component_of[p]].spacing);
       }
-    mk.radius = std::max(1.5e-3, 0.45 * h);
+    // a lesion is a small blob to find: near-touching balls; a target zone covers much of the
+    // gland: small dots on its particles, so the gland and the needles inside stay visible
+    mk.radius = lesion ? std::max(1.5e-3, 0.45 * h) : std::max(1.0e-3, 0.2 * h);
     if (!mk.particles.empty()) sc.markers.push_back(std::move(mk));
   }
 

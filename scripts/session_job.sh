@@ -1,20 +1,30 @@
 #!/usr/bin/env bash
-# One session of a batch (docs/batch.md): the INDEX-th line (1-based) of LIST is a recording
-# (replayed with `prostatesim replay`) or a scenario .yaml (run with `prostatesim insert`); its
-# results, metrics.json included, go to OUTROOT/<name>. INDEX defaults to $SLURM_ARRAY_TASK_ID,
-# so GNU parallel and a Slurm job array run this script unchanged.
+# One session of a batch (docs/batch.md). The INDEX-th line (1-based) of LIST is either
+#   SCENARIO.yaml                 a scripted scenario, run with `prostatesim insert`, or
+#   SCENARIO.yaml RECORDING       a trainee's recording, replayed with
+#                                 `prostatesim replay SCENARIO --recording RECORDING --report DIR`.
+# Results (metrics.json with its score, report.png, force-depth CSVs) go to
+# OUTROOT/<trainee>/<session>, where <trainee> is the folder holding the recording (or scenario)
+# and <session> its file name without the extension. INDEX defaults to $SLURM_ARRAY_TASK_ID, so
+# GNU parallel and a Slurm job array run this script unchanged.
 # Usage: session_job.sh LIST OUTROOT [INDEX]      (PROSTATESIM: the binary, default: prostatesim)
 set -euo pipefail
+[ $# -ge 2 ] || { echo "usage: session_job.sh LIST OUTROOT [INDEX]" >&2; exit 2; }
 list=$1
 outroot=$2
 index=${3:-${SLURM_ARRAY_TASK_ID:?give INDEX or run as a Slurm array task}}
 bin=${PROSTATESIM:-prostatesim}
-input=$(sed -n "${index}p" "$list")
-[ -n "$input" ] || { echo "session_job.sh: $list has no line $index" >&2; exit 2; }
-name=$(basename "$input")
+line=$(sed -n "${index}p" "$list")
+[ -n "$line" ] || { echo "session_job.sh: $list:$index: no such line" >&2; exit 2; }
+read -r scenario recording extra <<< "$line"
+[ -z "${extra:-}" ] || { echo "session_job.sh: $list:$index: expected 'SCENARIO.yaml [RECORDING]', got: $line" >&2; exit 2; }
+session_file=${recording:-$scenario}
+name=$(basename "$session_file")
 name=${name%.*}
-trainee=$(basename "$(dirname "$input")")   # recordings are filed as <trainee>/<session>.<ext>
-case "$input" in
-  *.yaml) exec "$bin" insert "$input" --trainee "$trainee" --session "$name" --out "$outroot/$trainee/$name" ;;
-  *) exec "$bin" replay "$input" --out "$outroot/$trainee/$name" ;;
-esac
+trainee=$(basename "$(dirname "$session_file")")   # sessions are filed as <trainee>/<session>.<ext>
+out="$outroot/$trainee/$name"
+if [ -z "${recording:-}" ]; then
+  exec "$bin" insert "$scenario" --trainee "$trainee" --session "$name" --out "$out"
+else
+  exec "$bin" replay "$scenario" --recording "$recording" --trainee "$trainee" --session "$name" --report "$out"
+fi

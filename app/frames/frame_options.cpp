@@ -1,5 +1,6 @@
 #include "app/frames/frame_options.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -24,19 +25,31 @@ void parse_size(const std::string& s, int& w, int& h) {
   h = static_cast<int>(b);
 }
 
-std::vector<render::View> parse_views(const std::string& s) {
+const char* us_view_name(us::PlaneKind k) { return k == us::PlaneKind::Transverse ? "us_transverse" : "us_sagittal"; }
+
+std::vector<render::View> parse_views(const std::string& s, std::vector<us::PlaneKind>* us) {
+  const std::string known = us ? "3d, anterior, lateral, probe, needle, us_transverse, us_sagittal" : "3d, anterior, lateral, probe, needle";
   std::vector<render::View> out;
+  std::vector<us::PlaneKind> planes;
   std::stringstream ss(s);
   std::string item;
   while (std::getline(ss, item, ',')) {
     if (item.empty()) continue;
+    if (us && (item == "us_transverse" || item == "us_sagittal")) {
+      const us::PlaneKind k = item == "us_transverse" ? us::PlaneKind::Transverse : us::PlaneKind::Sagittal;
+      if (std::find(planes.begin(), planes.end(), k) != planes.end())
+        throw InputError("", 0, "--views", "view '" + item + "' given twice");
+      planes.push_back(k);
+      continue;
+    }
     const auto v = render::parse_view(item);
-    if (!v) throw InputError("", 0, "--views", "unknown view '" + item + "' (known: 3d, anterior, lateral, probe, needle)");
+    if (!v) throw InputError("", 0, "--views", "unknown view '" + item + "' (known: " + known + ")");
     for (render::View u : out)
       if (u == *v) throw InputError("", 0, "--views", "view '" + item + "' given twice");
     out.push_back(*v);
   }
-  if (out.empty()) throw InputError("", 0, "--views", "no view given (known: 3d, anterior, lateral, probe, needle)");
+  if (out.empty() && planes.empty()) throw InputError("", 0, "--views", "no view given (known: " + known + ")");
+  if (us) *us = planes;
   return out;
 }
 
@@ -64,7 +77,7 @@ void prepare_output_dir(const std::string& dir, bool force) {
   fs::remove(probe, ec);
   if (force) {
     // only what a replay writes: view folders of frames and the fixed report files
-    for (const char* v : {"3d", "anterior", "lateral", "probe", "needle"}) fs::remove_all(p / v, ec);
+    for (const char* v : {"3d", "anterior", "lateral", "probe", "needle", "us_transverse", "us_sagittal"}) fs::remove_all(p / v, ec);
     for (const char* f : {"events.log", "summary.json", "force_depth.csv", "contact_sheet.png"}) fs::remove(p / f, ec);
   }
 }

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/ultrasound/imager.h"
 #include "render/camera.h"
 
 namespace ps::frames {
@@ -15,6 +16,8 @@ struct FrameOptions {
   int width = 1280, height = 720;            // [px]
   double fps = 30.0;                         // frames per simulated second
   std::vector<render::View> views{render::View::Orbit};
+  std::vector<us::PlaneKind> us_views;       // simulated TRUS planes (us_transverse, us_sagittal)
+  int us_size = 512;                         // ultrasound frames are square [px]
   bool force = false;                        // allow a non-empty out_dir (our files replaced)
   int samples = 4;                           // multisampling
   bool displacement = false;                 // colour by displacement [mm]
@@ -25,8 +28,10 @@ struct FrameOptions {
 
 // "1280x720" -> width, height in 1..kMaxImageSide. Throws InputError (field --size).
 void parse_size(const std::string& s, int& width, int& height);
-// "3d,lateral" -> views; unknown names throw InputError (field --views) listing the known ones.
-std::vector<render::View> parse_views(const std::string& s);
+// "3d,lateral,us_sagittal" -> views (3D views and, when `us` is given, ultrasound planes); unknown
+// names throw InputError (field --views) listing the known ones. At least one view.
+std::vector<render::View> parse_views(const std::string& s, std::vector<us::PlaneKind>* us = nullptr);
+const char* us_view_name(us::PlaneKind k);  // "us_transverse" / "us_sagittal"
 // Refuses a non-empty folder unless `force`, creates it, checks it is writable (a probe file
 // written and removed). With force, removes the files a previous replay wrote there (and only
 // those). Throws InputError (field --out).

@@ -12,6 +12,9 @@
 #include "engine/io/png_write.h"
 #include "app/frames/png_queue.h"
 #include "engine/model/model.h"
+#include "engine/ultrasound/from_simulation.h"
+#include "engine/ultrasound/imager.h"
+#include "engine/util/error.h"
 #include "engine/util/atomic_file.h"
 #include "render/headless_context.h"
 #include "render/renderer.h"
@@ -20,8 +23,24 @@ namespace ps::frames {
 
 namespace fs = std::filesystem;
 
+namespace {
+FrameOptions checked(FrameOptions o, const UltrasoundInput* us) {
+  if (!o.us_views.empty()) {
+    if (!us) throw InputError("", 0, "--views", "ultrasound views need a scenario with a probe: section");
+    us::UltrasoundSettings set = us->settings;
+    set.width = set.height = o.us_size;
+    us::validate(set, "--views");
+  }
+  return o;
+}
+}  // namespace
+
 struct FrameRecorder::Impl {
   FrameOptions opt;
+  std::unique_ptr<us::UltrasoundAnatomy> us_anatomy;       // the imagers keep a reference
+  std::vector<std::unique_ptr<us::PlaneImager>> imagers;   // one per opt.us_views
+  us::UltrasoundScene us_scene;
+  us::ProbeView probe_view;                                // last seen in a snapshot
   render::HeadlessContext ctx;     // first: no GL, nothing written
   bool folder_ready;               // then the folder (refused when not empty or not writable)
   render::Renderer renderer;
@@ -30,6 +49,7 @@ struct FrameRecorder::Impl {
   PngQueue queue;
   int frame = 0;
   std::vector<double> render_ms;
+  std::vector<double> us_ms;                               // one ultrasound plane [ms]
   std::string events;
   std::vector<std::string> tool_names;
   std::vector<double> t, depth, force;                     // active needle samples
@@ -38,8 +58,8 @@ struct FrameRecorder::Impl {
   std::vector<Thumb> thumbs;                               // contact sheet frames
   std::vector<int> thumb_frames;
 
-  Impl(const Model& m, const std::string& urethra, FrameOptions o)
-      : opt(std::move(o)),
+  Impl(const Model& m, const std::string& urethra, FrameOptions o, const UltrasoundInput* us)
+      : opt(checked(std::move(o), us)),
         folder_ready((prepare_output_dir(opt.out_dir, opt.force), true)),
         renderer(render::make_render_scene(m, urethra)),
         target(opt.width, opt.height, opt.samples),
@@ -48,12 +68,19 @@ struct FrameRecorder::Impl {
     orbit.distance = renderer.scene().extent * 3.2;
     const int n = std::max(1, opt.expected_frames);
     for (int k = 0; k < 4; ++k) thumb_frames.push_back(static_cast<int>(std::lround(k * (n - 1) / 3.0)));
+    if (!opt.us_views.empty()) {
+      us_anatomy = std::make_unique<us::UltrasoundAnatomy>(us->anatomy);
+      us::UltrasoundSettings set = us->settings;
+      set.width = set.height = opt.us_size;
+      for (us::PlaneKind k : opt.us_views) imagers.push_back(std::make_unique<us::PlaneImager>(*us_anatomy, set, k));
+    }
   }
 };
 
-FrameRecorder::FrameRecorder(const Model& model, const std::string& urethra, FrameOptions opt)
-    : impl_(std::make_unique<Impl>(model, urethra, std::move(opt))) {
+FrameRecorder::FrameRecorder(const Model& model, const std::string& urethra, FrameOptions opt, const UltrasoundInput* us)
+    : impl_(std::make_unique<Impl>(model, urethra, std::move(opt), us)) {
   for (render::View v : impl_->opt.views) fs::create_directories(fs::path(impl_->opt.out_dir) / render::view_name(v));
+  for (us::PlaneKind k : impl_->opt.us_views) fs::create_directories(fs::path(impl_->opt.out_dir) / us_view_name(k));
 }
 
 FrameRecorder::~FrameRecorder() = default;
@@ -114,6 +141,28 @@ void FrameRecorder::add_frame(const Snapshot& snap) {
     const fs::path path = fs::path(im.opt.out_dir) / render::view_name(view) / name;
     im.queue.push(path.string(), im.opt.width, im.opt.height, std::move(rgb));
   }
+  if (!im.imagers.empty()) {
+    // the probe as the snapshot shows it; a snapshot without one keeps the last pose seen
+    us::probe_view_from_snapshot(snap, im.probe_view);
+    us::scene_from_snapshot(snap, im.probe_view, im.us_scene);
+    for (size_t v = 0; v < im.imagers.size(); ++v) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const us::UsImage& img = im.imagers[v]->render(im.us_scene);
+      std::vector<uint8_t> gray = im.queue.take_buffer();
+      gray.assign(img.pixels.begin(), img.pixels.end());
+      im.us_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      if (v == 0 && im.opt.views.empty() && im.thumbs.size() < 4 &&
+          std::find(im.thumb_frames.begin(), im.thumb_frames.end(), im.frame) != im.thumb_frames.end()) {
+        std::vector<uint8_t> rgb3(3 * gray.size());
+        for (size_t i = 0; i < gray.size(); ++i) rgb3[3 * i] = rgb3[3 * i + 1] = rgb3[3 * i + 2] = gray[i];
+        im.thumbs.push_back(make_thumb(rgb3, img.width, img.height, 320, snap.time));
+      }
+      char name[64];
+      std::snprintf(name, sizeof name, "frame_%06d.png", im.frame);
+      const fs::path path = fs::path(im.opt.out_dir) / us_view_name(im.opt.us_views[v]) / name;
+      im.queue.push(path.string(), img.width, img.height, std::move(gray), 1);
+    }
+  }
   ++im.frame;
 }
 
@@ -164,6 +213,7 @@ FrameSummary FrameRecorder::finish(const std::string& extra_json) {
   j["png_files"] = s.files;
   nlohmann::json views = nlohmann::json::array();
   for (render::View v : im.opt.views) views.push_back(render::view_name(v));
+  for (us::PlaneKind k : im.opt.us_views) views.push_back(us_view_name(k));
   j["views"] = views;
   j["width_px"] = im.opt.width;
   j["height_px"] = im.opt.height;
@@ -174,6 +224,12 @@ FrameSummary FrameRecorder::finish(const std::string& extra_json) {
   j["gl_renderer"] = s.gl_renderer;
   j["render_ms_median"] = s.render_ms_median;
   j["render_ms_max"] = s.render_ms_max;
+  if (!im.us_ms.empty()) {
+    std::vector<double> u = im.us_ms;
+    std::sort(u.begin(), u.end());
+    j["ultrasound_ms_median"] = u[u.size() / 2];
+    j["ultrasound_px"] = im.opt.us_size;
+  }
   write_file_atomic((dir / "summary.json").string(), j.dump(2) + "\n");
   return s;
 }

@@ -3,7 +3,8 @@
 // hands the pixels to a PNG writer thread, and at the end writes the event log, the
 // force-versus-depth samples, a summary and a contact sheet (a few frames and the
 // force-versus-depth plot in one PNG). Output layout in DIR:
-//   <view>/frame_000000.png ...   one folder per view (3d, anterior, lateral, probe, needle)
+//   <view>/frame_000000.png ...   one folder per view (3d, anterior, lateral, probe, needle;
+//                                 us_transverse, us_sagittal: 8-bit grayscale simulated TRUS)
 //   events.log                    one line per event (time, tool, what, depth, force)
 //   force_depth.csv               every tick of the active needle: t_s, depth_mm, force_n
 //   summary.json                  frames, views, size, timings, event count, fault
@@ -16,12 +17,20 @@
 
 #include "app/frames/frame_options.h"
 #include "engine/realtime/snapshot.h"
+#include "engine/ultrasound/anatomy.h"
+#include "engine/ultrasound/settings.h"
 
 namespace ps {
 struct Model;
 }
 
 namespace ps::frames {
+
+// What the ultrasound views need (opt.us_views): the scene's imaged anatomy and scanner settings.
+struct UltrasoundInput {
+  us::UltrasoundAnatomy anatomy;
+  us::UltrasoundSettings settings;
+};
 
 struct FrameSummary {
   int frames = 0;                 // frames per view
@@ -35,14 +44,16 @@ class FrameRecorder {
  public:
   // Creates the GL context, then prepares the output folder (prepare_output_dir: InputError when
   // it is not empty without force, or not writable), then the renderer. Throws
-  // render::RenderError when no headless GL is available (nothing written then).
-  FrameRecorder(const Model& model, const std::string& urethra_csv, FrameOptions opt);
+  // render::RenderError when no headless GL is available (nothing written then). `us` is needed
+  // (InputError otherwise) when opt.us_views is not empty; its settings are validated first.
+  FrameRecorder(const Model& model, const std::string& urethra_csv, FrameOptions opt, const UltrasoundInput* us = nullptr);
   ~FrameRecorder();
 
   // Every tick (or every snapshot read): logs its events and samples the active needle's depth
   // and force for the plot and force_depth.csv.
   void observe(const Snapshot& snap);
-  // Renders and queues one frame of every view.
+  // Renders and queues one frame of every view (the ultrasound planes from the snapshot only:
+  // probe pose, needles and seeds from its DrawList, positions from its x).
   void add_frame(const Snapshot& snap);
   // Prints the progress bar line (stderr) for frame i of n.
   void progress(int i, int n, double sim_time) const;

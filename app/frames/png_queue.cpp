@@ -25,11 +25,11 @@ std::vector<uint8_t> PngQueue::take_buffer() {
   return b;
 }
 
-void PngQueue::push(const std::string& path, int w, int h, std::vector<uint8_t>&& rgb) {
+void PngQueue::push(const std::string& path, int w, int h, std::vector<uint8_t>&& rgb, int channels) {
   std::unique_lock<std::mutex> lk(mu_);
   cv_.wait(lk, [&] { return jobs_.size() < max_pending_ || error_; });
   if (error_) std::rethrow_exception(error_);
-  jobs_.push_back({path, w, h, std::move(rgb)});
+  jobs_.push_back({path, w, h, channels, std::move(rgb)});
   lk.unlock();
   cv_.notify_all();
 }
@@ -58,7 +58,7 @@ void PngQueue::run() {
     }
     std::exception_ptr err;
     try {
-      ps::write_png_atomic(job.path, job.w, job.h, 3, job.rgb.data());
+      ps::write_png_atomic(job.path, job.w, job.h, job.channels, job.rgb.data());
     } catch (...) {
       err = std::current_exception();
     }

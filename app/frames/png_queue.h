@@ -21,8 +21,9 @@ class PngQueue {
   ~PngQueue();  // finishes the queue (errors dropped: call finish() to see them)
   // A buffer for the next frame (recycled from written frames when possible).
   std::vector<uint8_t> take_buffer();
-  // Queues one RGB image (rows top-down). Rethrows a write error of an earlier frame.
-  void push(const std::string& path, int width, int height, std::vector<uint8_t>&& rgb);
+  // Queues one image (rows top-down; 3 channels = RGB, 1 = grayscale, e.g. ultrasound).
+  // Rethrows a write error of an earlier frame.
+  void push(const std::string& path, int width, int height, std::vector<uint8_t>&& rgb, int channels = 3);
   // Waits for every queued frame; rethrows the first write error.
   void finish();
   int written() const;
@@ -30,7 +31,7 @@ class PngQueue {
  private:
   struct Job {
     std::string path;
-    int w = 0, h = 0;
+    int w = 0, h = 0, channels = 3;
     std::vector<uint8_t> rgb;
   };
   void run();

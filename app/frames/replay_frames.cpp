@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "engine/util/error.h"
+#include "engine/ultrasound/from_simulation.h"
 #include "render/render_scene.h"
 
 namespace ps::frames {
@@ -25,7 +26,14 @@ ReplayFramesResult replay_frames(const Scene& scene, LockstepRunner& run, int64_
   std::string urethra;
   for (const auto& c : scene.spec.components)
     if (c.name == "prostate") urethra = render::urethra_file_beside(c.shape.mesh.file);
-  FrameRecorder rec(*scene.model, urethra, opt);  // GL context first, then the folder
+  std::unique_ptr<UltrasoundInput> us;
+  if (!opt.us_views.empty()) {
+    if (!scene.spec.probe) throw InputError(scene.spec.file, 0, "--views", "ultrasound views need a scenario with a probe: section");
+    us = std::make_unique<UltrasoundInput>();
+    us->anatomy = us::anatomy_for_scenario(scene.spec, *scene.model);
+    us->settings = us::settings_for_probe(*scene.spec.probe);
+  }
+  FrameRecorder rec(*scene.model, urethra, opt, us.get());  // GL context first, then the folder
   ReplayFramesResult r;
   int done = 0;
   {
@@ -78,7 +86,7 @@ void add_options(CLI::App& sub) {
   sub.add_option("--out", g_args.out, "write PNG frames, events.log, force_depth.csv, summary.json and contact_sheet.png here");
   sub.add_option("--size", g_args.size, "frame size WIDTHxHEIGHT in pixels")->capture_default_str();
   sub.add_option("--fps", g_args.fps, "frames per simulated second")->capture_default_str();
-  sub.add_option("--views", g_args.views, "comma-separated: 3d, anterior, lateral, probe, needle")->capture_default_str();
+  sub.add_option("--views", g_args.views, "comma-separated: 3d, anterior, lateral, probe, needle, us_transverse, us_sagittal (simulated TRUS, 512x512 grayscale)")->capture_default_str();
   sub.add_flag("--force", g_args.force, "replace a previous replay in a non-empty --out folder");
   sub.add_flag("--displacement", g_args.displacement, "colour the organs by displacement [mm]");
 }
@@ -88,7 +96,7 @@ bool wanted() { return !g_args.out.empty(); }
 int run(app::ReplaySession& s) {
   FrameOptions opt;
   parse_size(g_args.size, opt.width, opt.height);
-  opt.views = parse_views(g_args.views);
+  opt.views = parse_views(g_args.views, &opt.us_views);
   opt.fps = g_args.fps;
   opt.out_dir = g_args.out;
   opt.force = g_args.force;

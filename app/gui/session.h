@@ -23,12 +23,12 @@ class Session {
   ~Session();
 
   const std::string& name() const { return scene_->spec.name; }
+  const Scene& scene() const { return *scene_; }
   const std::string& file() const { return file_; }
   render::Renderer& renderer() { return *renderer_; }
   haptics::MouseKeyboardDevice* mouse() const { return mouse_; }
   int64_t end_tick() const { return end_tick_; }
   PhysicsLoop& loop() { return *loop_; }
-  const Scene& scene() const { return *scene_; }
 
   // Newest snapshot; new_events(): its events when it is new since the previous latest() call.
   const Snapshot& latest();

@@ -15,9 +15,12 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "app/gui/metrics_panel.h"
 #include "app/gui/session.h"
+#include "app/gui/ultrasound_worker.h"
 #include "engine/io/png_write.h"
 #include "haptics/mouse_keyboard.h"
 #include "engine/util/error.h"
@@ -49,6 +52,77 @@ struct Ui {
   bool dragging_l = false, dragging_r = false;
   double mx = 0, my = 0;
 };
+
+// The live biplane TRUS images: a worker thread forms them from snapshots (ultrasound_worker.h),
+// this uploads the newest ones into two textures and shows them side by side.
+struct UsPanel {
+  const Session* for_session = nullptr;
+  std::unique_ptr<UltrasoundWorker> worker;
+  std::string error;                 // why there is no image (no probe, anatomy failed)
+  UsFrame frame;
+  unsigned tex[2] = {0, 0};
+  bool have = false;
+  ~UsPanel() {
+    worker.reset();
+    if (tex[0] && gl::loaded()) gl::api.DeleteTextures(2, tex);
+  }
+};
+
+void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width) {
+  if (p.for_session != &s) {  // a new scene: a new worker for its anatomy
+    p.worker.reset();
+    p.have = false;
+    p.error.clear();
+    p.for_session = &s;
+    if (!s.has_probe()) p.error = "no TRUS probe in this scene";
+    else {
+      try {
+        p.worker = std::make_unique<UltrasoundWorker>(s.scene());
+      } catch (const std::exception& e) {
+        p.error = e.what();
+      }
+    }
+  }
+  if (p.worker) {
+    p.worker->submit(snap);
+    if (p.worker->take(p.frame)) {
+      const int n = p.frame.side;
+      if (!p.tex[0]) {
+        gl::api.GenTextures(2, p.tex);
+        for (unsigned t : p.tex) {
+          gl::api.BindTexture(GL_TEXTURE_2D, t);
+          gl::api.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+          gl::api.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+          gl::api.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_G, GL_RED);  // gray from one channel
+          gl::api.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_B, GL_RED);
+          gl::api.TexImage2D(GL_TEXTURE_2D, 0, GL_R8, n, n, 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
+        }
+      }
+      gl::api.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+      const std::vector<uint8_t>* img[2] = {&p.frame.transverse, &p.frame.sagittal};
+      for (int k = 0; k < 2; ++k) {
+        gl::api.BindTexture(GL_TEXTURE_2D, p.tex[k]);
+        gl::api.TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, n, n, GL_RED, GL_UNSIGNED_BYTE, img[k]->data());
+      }
+      gl::api.BindTexture(GL_TEXTURE_2D, 0);
+      p.have = true;
+    }
+  }
+  const float side = 0.5f * (width - 8.0f);
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  if (!p.have) {
+    ImGui::GetWindowDrawList()->AddRectFilled(p0, ImVec2(p0.x + width, p0.y + side), IM_COL32(8, 8, 8, 255));
+    ImGui::GetWindowDrawList()->AddText(ImVec2(p0.x + 10, p0.y + 0.45f * side), IM_COL32(150, 150, 150, 255),
+                                        p.error.empty() ? "forming the first ultrasound image..." : p.error.c_str());
+    ImGui::Dummy(ImVec2(width, side));
+    return;
+  }
+  ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(p.tex[0])), ImVec2(side, side));
+  ImGui::SameLine(0.0f, 8.0f);
+  ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(p.tex[1])), ImVec2(side, side));
+  ImGui::TextDisabled("transverse (R on left)   sagittal (base on left)");
+  ImGui::TextDisabled("t = %.3f s, both planes %.0f ms (worker thread)", p.frame.time, p.frame.ms);
+}
 
 void push_log(Ui& ui, const std::string& s) {
   ui.log.push_back(s);
@@ -171,6 +245,7 @@ int run_window(app::RunSession& run) {
     ImGui_ImplOpenGL3_Init("#version 330");
 
     Ui ui;
+    UsPanel us;  // destroyed at the end of this block, while the GL context is still current
     ui.help = std::getenv("PROSTATESIM_HELP") != nullptr;
     const double factor = run.loop.factor();
     std::unique_ptr<Session> session = std::make_unique<Session>(run);
@@ -193,7 +268,7 @@ int run_window(app::RunSession& run) {
         return false;
       }
     };
-    int frame = 0;
+    int frame = 0, us_wait = 0;
     bool pending = false;
     std::string pending_path, pending_record, pending_log;
     auto last = std::chrono::steady_clock::now();
@@ -346,13 +421,8 @@ int run_window(app::RunSession& run) {
       ImGui::SetNextWindowSize(ImVec2(kRightPanel, ds.y));
       ImGui::Begin("Read-outs", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
       if (ImGui::CollapsingHeader("Force versus depth", ImGuiTreeNodeFlags_DefaultOpen)) force_plot(ui, ImVec2(kRightPanel - 20, 190));
-      if (ImGui::CollapsingHeader("Ultrasound", ImGuiTreeNodeFlags_DefaultOpen)) {
-        const ImVec2 p0 = ImGui::GetCursorScreenPos();
-        ImGui::GetWindowDrawList()->AddRectFilled(p0, ImVec2(p0.x + kRightPanel - 20, p0.y + 150), IM_COL32(8, 8, 8, 255));
-        ImGui::GetWindowDrawList()->AddText(ImVec2(p0.x + 10, p0.y + 66), IM_COL32(150, 150, 150, 255),
-                                            "ultrasound image: not available in this build");
-        ImGui::Dummy(ImVec2(kRightPanel - 20, 150));
-      }
+      if (ImGui::CollapsingHeader("Ultrasound", ImGuiTreeNodeFlags_DefaultOpen)) us_panel(us, s, snap, kRightPanel - 20);
+      if (ImGui::CollapsingHeader("Metrics", ImGuiTreeNodeFlags_DefaultOpen)) metrics_panel(s, snap);
       if (ImGui::CollapsingHeader("Timing", ImGuiTreeNodeFlags_DefaultOpen)) {
         const LoopTiming t = s.timing();
         ImGui::Text("sim time %.3f s   tick %lld", snap.time, static_cast<long long>(snap.tick));
@@ -409,7 +479,13 @@ int run_window(app::RunSession& run) {
                           static_cast<int>(vh * sy), ui.ropt);
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
       ++frame;
-      const bool ending = glfwWindowShouldClose(win) || (s.end_tick() >= 0 && snap.tick >= s.end_tick());
+      bool ending = glfwWindowShouldClose(win) || (s.end_tick() >= 0 && snap.tick >= s.end_tick());
+      // a screenshot waits (up to ~5 s) for the first ultrasound image from the worker thread
+      if (ending && !screenshot.empty() && !glfwWindowShouldClose(win) && us.worker && !us.have && us_wait < 500) {
+        ending = false;
+        ++us_wait;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      }
       if (ending) {
         if (!screenshot.empty()) {
           std::vector<uint8_t> rgba(4 * static_cast<size_t>(fbw) * fbh), rgb(3 * static_cast<size_t>(fbw) * fbh);

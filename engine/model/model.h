@@ -150,7 +150,14 @@ struct TetElements {
   std::vector<double> node_inv_vol0;  // [nodes] 1 / (sum of V0/4 over the node's elements) [1/m^3]
   std::vector<double> node_kappa;  // [nodes] volumetric modulus lambda + mu of the node's particle [Pa]
   std::vector<int> node_slot;      // [n particles] index into nodes, -1 when untouched
+  // Multi-rate (solver.multirate, compile.cpp partition_tet_rates): elements [0, fast_count) are
+  // evaluated every substep; the rest touch only particles whose own stable step admits the whole
+  // tick, so their force is evaluated once per tick and applied as the tick's impulse
+  // (engine/step/tet_elastic.cpp, TetPass::TickStart).
+  // fast_count == count() when the scene has no slow element.
+  int fast_count = 0;
   int count() const { return static_cast<int>(vol0.size()); }
+  bool multirate() const { return fast_count < count(); }
 };
 
 // Active fibre pair: contraction force along the current pair direction.

@@ -126,6 +126,7 @@ std::vector<std::string> build_tet_elements(Model& m, const std::vector<TetParti
     te.vol0.push_back(vol);
     te.mu.push_back(mu);
   }
+  te.fast_count = te.count();  // every element every substep until partition_tet_rates (compile.cpp)
   int orphans = 0;
   for (int p = 0; p < n; ++p) {
     if (node_vol[p] > 0.0) {

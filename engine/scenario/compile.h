@@ -8,6 +8,7 @@
 
 #include "engine/model/model.h"
 #include "engine/scenario/scenario_spec.h"
+#include "engine/step/stages.h"
 
 namespace ps {
 
@@ -23,7 +24,13 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
 // Largest stable step of the explicit scheme for the undamped linearisation at rest:
 // dt = 2 / sqrt(lambda_max(M^-1 K)), lambda_max by power iteration on finite differences of the
 // shape-memory force. [s]
-double estimate_stable_dt(const Model& model);
+// `pass` selects the tet elements (multi-rate: the fast group with the other force stages, or the
+// slow group alone).
+double estimate_stable_dt(const Model& model, TetPass pass = TetPass::All);
+// solver.multirate: orders the tet elements fast first and sets TetElements::fast_count; an
+// element is slow when its four particles' own stable steps admit the whole tick dt / margin and
+// the slow group's estimate (power iteration) confirms it. Returns a line for the compile report.
+std::string partition_tet_rates(Model& model, double margin);
 // solver.mass_scaling: inertial mass on the particles that set the stable substep, until the
 // model's substep dt/substeps is at most `margin` of the estimate (compile.cpp); updates
 // inv_mass, damping, stable_dt_estimate, added_inertia, largest_inertia_factor.

@@ -299,8 +299,9 @@ ScenarioSpec parse_scenario_impl(const std::string& text, const std::string& pat
   }
   if (root["solver"]) {
     const YAML::Node t = root["solver"];
-    r.only_keys(t, "solver", {"redistribution", "triplets", "mass_scaling"});
+    r.only_keys(t, "solver", {"redistribution", "triplets", "mass_scaling", "multirate"});
     if (t["mass_scaling"]) s.mass_scaling = r.boolean(t["mass_scaling"], "solver.mass_scaling");
+    if (t["multirate"]) s.multirate = r.boolean(t["multirate"], "solver.multirate");
     if (t["triplets"]) {
       if (t["triplets"].IsScalar() && t["triplets"].Scalar() == "all") s.max_triplets = 0;
       else {

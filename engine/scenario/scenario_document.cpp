@@ -144,12 +144,95 @@ bool region_box(const RegionSpec& r, Vec3& lo, Vec3& hi) {
   }
 }
 
+// The node at a key path (every key must exist); `seq_item` gets the index of the last token's
+// selected item in its list (-1 without a selector).
+struct Walked {
+  YAML::Node node;                 // the value at the path
+  YAML::Node list;                 // the list of the last selector (when it has one)
+  int index = -1;
+};
+
+Walked walk_path(const YAML::Node& root, const std::vector<PathToken>& tokens) {
+  Walked w;
+  // (reset(), not '=': assigning a YAML::Node that refers to a node rewrites the node itself)
+  YAML::Node cur;
+  cur.reset(root);
+  std::string walked;
+  for (const PathToken& t : tokens) {
+    walked += (walked.empty() ? "" : ".") + t.key;
+    if (!cur.IsMap()) throw InputError("", 0, walked, "not inside a mapping");
+    const YAML::Node child = cur[t.key];
+    if (!child.IsDefined()) throw InputError("", 0, walked, "no such key");
+    cur.reset(child);
+    w.index = -1;
+    if (t.has_selector) {
+      if (!cur.IsSequence()) throw InputError("", 0, walked, "not a list");
+      int found = -1;
+      if (all_digits(t.selector)) {
+        const size_t i = std::stoul(t.selector);
+        if (i >= cur.size()) throw InputError("", 0, walked + "[" + t.selector + "]", "index beyond the list (" + std::to_string(cur.size()) + " items)");
+        found = static_cast<int>(i);
+      } else {
+        for (size_t i = 0; i < cur.size() && found < 0; ++i)
+          if (cur[i].IsMap() && cur[i]["name"] && cur[i]["name"].IsScalar() && cur[i]["name"].Scalar() == t.selector) found = static_cast<int>(i);
+        if (found < 0) throw InputError("", 0, walked + "[" + t.selector + "]", "no item named '" + t.selector + "'");
+      }
+      walked += "[" + t.selector + "]";
+      w.list.reset(cur);
+      w.index = found;
+      const YAML::Node item = w.list[static_cast<size_t>(found)];
+      cur.reset(item);
+    }
+  }
+  w.node.reset(cur);
+  return w;
+}
+
+size_t line_begin(const std::string& t, size_t pos) {
+  const size_t p = pos == 0 ? std::string::npos : t.rfind('\n', pos - 1);
+  return p == std::string::npos ? 0 : p + 1;
+}
+
+// End of the text of a value starting at pos (scalar, quoted, flow collection).
+size_t value_end(const std::string& t, size_t pos, bool in_flow) {
+  if (t[pos] == '"' || t[pos] == '\'') return quoted_end(t, pos);
+  if (t[pos] == '[' || t[pos] == '{') return flow_end(t, pos);
+  return plain_end(t, pos, in_flow);
+}
+
+// A block list item's extent: from the start of its dash line to the end of its last content
+// line (lines indented deeper than the dash; blank and comment lines in between included only
+// when content follows them).
+void block_item_extent(const std::string& t, size_t item_pos, size_t& begin, size_t& end, int& dash_col) {
+  size_t dash = item_pos;
+  while (dash > 0 && t[dash] != '-') --dash;
+  begin = line_begin(t, dash);
+  dash_col = static_cast<int>(dash - begin);
+  end = t.find('\n', dash);
+  if (end == std::string::npos) end = t.size();
+  size_t ls = end;
+  while (ls < t.size()) {
+    const size_t b = ls + 1;
+    size_t le = t.find('\n', b);
+    if (le == std::string::npos) le = t.size();
+    size_t ind = b;
+    while (ind < le && t[ind] == ' ') ++ind;
+    const bool blank = ind == le || t[ind] == '#' || t[ind] == '\r';
+    if (!blank) {
+      if (static_cast<int>(ind - b) <= dash_col) break;
+      end = le;
+    }
+    ls = le;
+  }
+}
+
 }  // namespace
 
 ValueSpan locate_value(const std::string& text, const std::string& key_path) {
   const std::vector<PathToken> tokens = split_path(key_path);
   const YAML::Node root = load_yaml(text);
-  YAML::Node cur = root;
+  YAML::Node cur;  // reset(), not '=': '=' on a YAML::Node rewrites the node it refers to
+  cur.reset(root);
   bool in_flow = false;
   std::string walked;
   for (size_t k = 0; k < tokens.size(); ++k) {
@@ -211,7 +294,7 @@ ValueSpan locate_value(const std::string& text, const std::string& key_path) {
                          "the value is an alias (" + text.substr(p, text.find_first_of(",}] \n", p) - p) + "): edit the anchored value");
       break;
     }
-    cur = child;
+    cur.reset(child);
     if (t.has_selector) {
       if (!cur.IsSequence()) throw InputError("", 0, walked, "not a list");
       if (cur.Style() == YAML::EmitterStyle::Flow) in_flow = true;
@@ -226,7 +309,7 @@ ValueSpan locate_value(const std::string& text, const std::string& key_path) {
         if (!item.IsDefined()) throw InputError("", 0, walked + "[" + t.selector + "]", "no item named '" + t.selector + "'");
       }
       walked += "[" + t.selector + "]";
-      cur = item;
+      cur.reset(item);
     }
   }
   ValueSpan s;
@@ -384,6 +467,143 @@ EditResult ScenarioDocument::set(const std::string& key_path, const std::string&
   ++at_;
   r.ok = true;
   return r;
+}
+
+std::string text_with_item_added(const std::string& text, const std::string& list_path, const std::string& item) {
+  const std::vector<PathToken> tokens = split_path(list_path);
+  if (tokens.back().has_selector) throw InputError("", 0, list_path, "name the list, not one of its items");
+  const YAML::Node root = load_yaml(text);
+  const Walked w = walk_path(root, tokens);
+  const YAML::Node& list = w.node;
+  if (!list.IsSequence()) throw InputError("", 0, list_path, "not a list");
+  std::string next = text;
+  const size_t pos = skip_anchor(text, list.Mark().pos);
+  if (pos < text.size() && text[pos] == '*') throw InputError("", line_at(text, pos), list_path, "the list is an alias: edit the anchored list");
+  if (list.Style() == YAML::EmitterStyle::Flow || (pos < text.size() && text[pos] == '[')) {
+    size_t close = flow_end(text, pos) - 1;  // the ']'
+    size_t ins = close;
+    while (ins > pos + 1 && (text[ins - 1] == ' ' || text[ins - 1] == '\t' || text[ins - 1] == '\n')) --ins;
+    next.insert(ins, (list.size() > 0 ? ", " : "") + item);
+    return next;
+  }
+  if (list.size() == 0) throw InputError("", line_at(text, pos), list_path, "an empty block list");
+  size_t b = 0, e = 0;
+  int col = 0;
+  block_item_extent(text, skip_anchor(text, list[list.size() - 1].Mark().pos), b, e, col);
+  next.insert(e, "\n" + std::string(static_cast<size_t>(col), ' ') + "- " + item);
+  return next;
+}
+
+std::string text_with_item_removed(const std::string& text, const std::string& item_path) {
+  const std::vector<PathToken> tokens = split_path(item_path);
+  if (!tokens.back().has_selector) throw InputError("", 0, item_path, "name an item of a list ([index] or [name])");
+  const YAML::Node root = load_yaml(text);
+  const Walked w = walk_path(root, tokens);
+  const YAML::Node& list = w.list;
+  const size_t n = list.size(), i = static_cast<size_t>(w.index);
+  const size_t lpos = skip_anchor(text, list.Mark().pos);
+  std::string next = text;
+  auto item_begin = [&](size_t k) { return skip_anchor(text, list[k].Mark().pos); };
+  if (list.Style() == YAML::EmitterStyle::Flow || (lpos < text.size() && text[lpos] == '[')) {
+    size_t b = item_begin(i), e = value_end(text, b, true);
+    if (i + 1 < n) e = item_begin(i + 1);                       // "item, " up to the next item
+    else if (i > 0) b = value_end(text, item_begin(i - 1), true);  // ", item" after the previous
+    next.erase(b, e - b);
+    return next;
+  }
+  size_t b = 0, e = 0;
+  int col = 0;
+  block_item_extent(text, item_begin(i), b, e, col);
+  if (n == 1) {
+    // the list's only item: its key keeps an empty flow list (and a comment on the key's line)
+    size_t k = b;
+    while (k > 0) {  // back over blank and comment lines to the key's line
+      const size_t ls = line_begin(text, k - 1);
+      size_t ind = ls;
+      while (ind < text.size() && text[ind] == ' ') ++ind;
+      if (ind < text.size() && (text[ind] == '#' || text[ind] == '\n')) { k = ls; continue; }
+      break;
+    }
+    if (k == 0) throw InputError("", line_at(text, b), item_path, "cannot find the list's key");
+    const size_t key_line = line_begin(text, k - 1), key_end = k - 1;
+    size_t c = key_line;
+    while (c < key_end && text[c] != ':') {
+      if (text[c] == '"' || text[c] == '\'') c = quoted_end(text, c) - 1;
+      ++c;
+    }
+    if (c >= key_end) throw InputError("", line_at(text, b), item_path, "cannot find the list's key");
+    size_t comment = text.find(" #", c + 1);
+    if (comment == std::string::npos || comment > key_end) comment = key_end;
+    return text.substr(0, c + 1) + " []" + text.substr(comment, key_end - comment) + text.substr(e);
+  }
+  // the item's lines and their newline
+  if (e < next.size() && next[e] == '\n') ++e;
+  else if (b > 0) --b;  // the last line of the file: take the newline before it
+  next.erase(b, e - b);
+  return next;
+}
+
+EditResult ScenarioDocument::accept(std::string next, const std::string& field) {
+  EditResult r;
+  Compiled c = compile_text(next, path_);
+  if (c.issue && !issue_) {
+    r.issue = c.issue;
+    if (r.issue->field.empty()) r.issue->field = field;
+    return r;
+  }
+  text_ = std::move(next);
+  spec_ = std::move(c.spec);
+  model_ = c.model;
+  issue_ = c.issue;
+  hash_ = model_ ? ps::model_hash(*model_) : 0;
+  history_.resize(at_ + 1);
+  history_.push_back(text_);
+  ++at_;
+  r.ok = true;
+  return r;
+}
+
+EditResult ScenarioDocument::add_item(const std::string& list_path, const std::string& yaml_item) {
+  std::string next;
+  try {
+    const std::vector<PathToken> tokens = split_path(list_path);
+    bool missing = false;
+    try {
+      walk_path(load_yaml(text_), tokens);
+    } catch (const InputError& e) {
+      missing = e.field() == list_path && std::string(e.what()).find("no such key") != std::string::npos;
+      if (!missing) throw;
+    }
+    if (missing) return set(list_path, "[" + yaml_item + "]");
+    next = text_with_item_added(text_, list_path, yaml_item);
+  } catch (const InputError& e) {
+    EditResult r;
+    r.issue = DocumentIssue{e.field().empty() ? list_path : e.field(), e.line(), e.what()};
+    return r;
+  }
+  return accept(std::move(next), list_path);
+}
+
+EditResult ScenarioDocument::remove_item(const std::string& item_path) {
+  std::string next;
+  try {
+    next = text_with_item_removed(text_, item_path);
+  } catch (const InputError& e) {
+    EditResult r;
+    r.issue = DocumentIssue{e.field().empty() ? item_path : e.field(), e.line(), e.what()};
+    return r;
+  }
+  return accept(std::move(next), item_path);
+}
+
+int ScenarioDocument::item_count(const std::string& list_path) const {
+  try {
+    const YAML::Node root = load_yaml(text_);
+    const Walked w = walk_path(root, split_path(list_path));
+    return w.node.IsSequence() ? static_cast<int>(w.node.size()) : 0;
+  } catch (const std::exception&) {
+    return 0;
+  }
 }
 
 EditResult ScenarioDocument::set_number(const std::string& key_path, double v) { return set(key_path, number_text(v)); }

@@ -65,6 +65,18 @@ class ScenarioDocument {
   EditResult set(const std::string& key_path, const std::string& yaml_value);
   EditResult set_number(const std::string& key_path, double value);
   EditResult set_vec3(const std::string& key_path, const Vec3& value);
+  // Appends an item (YAML text, e.g. a flow mapping "{name: b2, start_mm: [0, -20, -7], ...}" or a
+  // scalar "62") to the list at `list_path` ("tags", "needles.instruments",
+  // "needles.instruments[posterior].seeds_mm"): in a [flow] list before its ']', in a block list
+  // as a new "- item" line after its last item at the dashes' indentation. A missing list key is
+  // added holding [item]. Validated like set(); undo removes it.
+  EditResult add_item(const std::string& list_path, const std::string& yaml_item);
+  // Removes the item at `item_path` ("needles.instruments[b2]", "tags[1]", "...seeds_mm[2]"): its
+  // text (and the separating comma, or its lines of a block list); the last item of a block list
+  // leaves "[]". Validated like set(); undo puts it back as it was.
+  EditResult remove_item(const std::string& item_path);
+  // Number of items of the list at `list_path` (0 when absent or not a list).
+  int item_count(const std::string& list_path) const;
   // The current YAML text of a value ("" when absent).
   std::string value_text(const std::string& key_path) const;
 
@@ -80,6 +92,7 @@ class ScenarioDocument {
 
  private:
   void load(const std::string& text);    // sets text_, spec_, model_, hash_, issue_
+  EditResult accept(std::string next, const std::string& field);  // validate and keep
   std::string text_, path_, saved_text_;
   std::vector<std::string> history_;
   size_t at_ = 0;
@@ -101,5 +114,8 @@ struct ValueSpan {
   std::string insert_prefix, insert_suffix;  // text around "key: value" for an insertion
 };
 ValueSpan locate_value(const std::string& text, const std::string& key_path);
+// The text after adding / removing a list item (InputError naming the path when it cannot).
+std::string text_with_item_added(const std::string& text, const std::string& list_path, const std::string& yaml_item);
+std::string text_with_item_removed(const std::string& text, const std::string& item_path);
 
 }  // namespace ps

@@ -190,6 +190,7 @@ struct ScenarioSpec {
   bool linear_redistribution = false;  // solver.redistribution: linear (paper literal) | gradient
   int max_triplets = 0;            // solver.triplets: all (0) | N best-conditioned per particle
   bool mass_scaling = false;       // solver.mass_scaling: scale inertia to the file's substep
+  bool multirate = false;          // solver.multirate: tet elements that admit the tick run once per tick
   std::vector<MaterialSpec> materials;
   std::vector<ComponentSpec> components;
   std::vector<ConstraintSpec> constraints;

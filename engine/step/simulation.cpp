@@ -95,7 +95,10 @@ bool Simulation::step(double dt, StageProbe* probe) {
       case Stage::ExternalForces: clear_and_add_external_forces(m, s, s.time); break;
       case Stage::ShapeMemory: add_shape_memory_forces(m, s); break;
       case Stage::StrainMemory: add_strain_memory_forces(m, s); break;
-      case Stage::TetElastic: add_tet_elastic_forces(m, s); break;
+      case Stage::TetElastic:
+        add_tet_elastic_forces(m, s, !m.tets.multirate() ? TetPass::All : ctx_->substep == 0 ? TetPass::TickStart : TetPass::Held,
+                               ctx_->substeps);
+        break;
       case Stage::ActiveFibres: add_active_forces(m, s); break;
       case Stage::ToolForces: for (auto& t : tools_) t->forces(m, s, dt); break;
       case Stage::RigidForces: gather_rigid_forces(m, s); break;

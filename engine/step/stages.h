@@ -21,7 +21,13 @@ void add_strain_memory_forces(const Model& m, State& s, int polar_iterations = 0
 double strain_memory_energy(const Model& m, const State& s);
 // tet_elastic.cpp: elastic force of the tet model's elements (Model::tets, docs/model.md "Tet
 // model"): per-element isochoric neo-Hookean shear, per-node averaged volumetric pressure
-void add_tet_elastic_forces(const Model& m, State& s);
+// Which elements and how (multi-rate, TetElements::fast_count): All evaluates every element now;
+// TickStart (a tick's first substep) adds the fast elements' force and the slow ones' whole-tick
+// impulse as substeps x their force, and keeps the slow elements' volume shares in State; Held
+// (the tick's other substeps) evaluates only the fast elements; FastOnly / SlowOnly give one
+// group's force at the current volumes (the stability estimates).
+enum class TetPass { All, TickStart, Held, FastOnly, SlowOnly };
+void add_tet_elastic_forces(const Model& m, State& s, TetPass pass = TetPass::All, int substeps = 1);
 // tet_elastic.cpp: the energy whose negative gradient that force is [J] (tests, diagnostics)
 double tet_elastic_energy(const Model& m, const State& s);
 // active.cpp: fibre contraction of active components scaled by State::activation

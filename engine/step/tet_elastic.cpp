@@ -13,7 +13,7 @@
 // Gradient: dE/dx_i = V0_t P_t g_i for the element's own vertices (g_0 = -g_1 - g_2 - g_3), with
 //   P_t = mu_t (F - cof F) + pbar_t cof F,   pbar_t = mean over t's 4 nodes of kappa_n (J_n - 1)
 // because dV_t/dx_i = V0_t cof(F_t) g_i and dJ_n/dx_i = sum_{t around n} dV_t/dx_i / (4 V0_n).
-// Three passes: node volumes, node pressures, element forces. Forces sum to zero per element
+// Three passes: node volumes, node pressures, element forces (multi-rate: TetPass in stages.h). Forces sum to zero per element
 // (momentum) and the energy is rotation invariant (angular momentum). No allocation: the node
 // scratch is State::tet_node_vol, sized at make_state.
 #include "engine/step/stages.h"
@@ -41,12 +41,9 @@ inline ElementKinematics kinematics(const TetElements& te, const std::vector<Vec
   return k;
 }
 
-// current volume share V_n of every tet node into vol (indexed like te.nodes)
-void node_volumes(const TetElements& te, const std::vector<Vec3>& x, double* vol) {
-  const int nn = static_cast<int>(te.nodes.size());
-  for (int a = 0; a < nn; ++a) vol[a] = 0.0;
-  const int nt = te.count();
-  for (int t = 0; t < nt; ++t) {
+// adds the volume share V_t/4 of elements [begin, end) to their nodes' entries of vol
+void add_node_volumes(const TetElements& te, const std::vector<Vec3>& x, int begin, int end, double* vol) {
+  for (int t = begin; t < end; ++t) {
     const int* v = &te.v[4 * t];
     const Vec3 x0 = x[v[0]];
     const double quarter = (x[v[1]] - x0).dot((x[v[2]] - x0).cross(x[v[3]] - x0)) / 24.0;  // V_t / 4
@@ -54,29 +51,107 @@ void node_volumes(const TetElements& te, const std::vector<Vec3>& x, double* vol
   }
 }
 
+// current volume share V_n of every tet node into vol (indexed like te.nodes)
+void node_volumes(const TetElements& te, const std::vector<Vec3>& x, double* vol) {
+  const int nn = static_cast<int>(te.nodes.size());
+  for (int a = 0; a < nn; ++a) vol[a] = 0.0;
+  add_node_volumes(te, x, 0, te.count(), vol);
+}
+
+// The element pass in plain scalars (no Eigen temporaries): F, its cofactor and
+// P = V0 (mu F + (pbar - mu) cof F) stay in registers; about half the time of the Mat3 form.
+// Elements [begin, end); node pressures p [Pa] (indexed like te.nodes); forces times scale added to f.
+void element_forces(const TetElements& te, const Vec3* x, const double* p, int begin, int end, double scale, Vec3* f) {
+  const int* vv = te.v.data();
+  const int* slot = te.node_slot.data();
+  const double* gg = te.g.data();
+  const double* vol0 = te.vol0.data();
+  const double* mu_t = te.mu.data();
+  for (int t = begin; t < end; ++t) {
+    const int* v = vv + 4 * t;
+    const double* g = gg + 9 * t;
+    const double* x0 = x[v[0]].data();
+    const double* x1 = x[v[1]].data();
+    const double* x2 = x[v[2]].data();
+    const double* x3 = x[v[3]].data();
+    double e1[3], e2[3], e3[3];
+    for (int r = 0; r < 3; ++r) { e1[r] = x1[r] - x0[r]; e2[r] = x2[r] - x0[r]; e3[r] = x3[r] - x0[r]; }
+    double F[3][3];  // F[r][c]
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) F[r][c] = e1[r] * g[c] + e2[r] * g[3 + c] + e3[r] * g[6 + c];
+    // columns of cof F: col0 = F.col1 x F.col2, col1 = F.col2 x F.col0, col2 = F.col0 x F.col1
+    double C[3][3];
+    C[0][0] = F[1][1] * F[2][2] - F[2][1] * F[1][2];
+    C[1][0] = F[2][1] * F[0][2] - F[0][1] * F[2][2];
+    C[2][0] = F[0][1] * F[1][2] - F[1][1] * F[0][2];
+    C[0][1] = F[1][2] * F[2][0] - F[2][2] * F[1][0];
+    C[1][1] = F[2][2] * F[0][0] - F[0][2] * F[2][0];
+    C[2][1] = F[0][2] * F[1][0] - F[1][2] * F[0][0];
+    C[0][2] = F[1][0] * F[2][1] - F[2][0] * F[1][1];
+    C[1][2] = F[2][0] * F[0][1] - F[0][0] * F[2][1];
+    C[2][2] = F[0][0] * F[1][1] - F[1][0] * F[0][1];
+    const double pbar = 0.25 * (p[slot[v[0]]] + p[slot[v[1]]] + p[slot[v[2]]] + p[slot[v[3]]]);
+    const double a = scale * vol0[t] * mu_t[t], b = scale * vol0[t] * (pbar - mu_t[t]);
+    double P[3][3];  // V0 x first Piola stress [N m]
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) P[r][c] = a * F[r][c] + b * C[r][c];
+    double f1[3], f2[3], f3[3];
+    for (int r = 0; r < 3; ++r) {
+      f1[r] = -(P[r][0] * g[0] + P[r][1] * g[1] + P[r][2] * g[2]);
+      f2[r] = -(P[r][0] * g[3] + P[r][1] * g[4] + P[r][2] * g[5]);
+      f3[r] = -(P[r][0] * g[6] + P[r][1] * g[7] + P[r][2] * g[8]);
+    }
+    double* F0 = f[v[0]].data();
+    double* F1 = f[v[1]].data();
+    double* F2 = f[v[2]].data();
+    double* F3 = f[v[3]].data();
+    for (int r = 0; r < 3; ++r) {
+      F1[r] += f1[r];
+      F2[r] += f2[r];
+      F3[r] += f3[r];
+      F0[r] -= f1[r] + f2[r] + f3[r];
+    }
+  }
+}
+
 }  // namespace
 
-void add_tet_elastic_forces(const Model& m, State& s) {
+void add_tet_elastic_forces(const Model& m, State& s, TetPass pass, int substeps) {
   const TetElements& te = m.tets;
-  double* p = s.tet_node_vol.data();
-  node_volumes(te, s.x, p);
+  const int nt = te.count(), nf = te.fast_count;
   const int nn = static_cast<int>(te.nodes.size());
+  double* p = s.tet_node_vol.data();
+  const bool split = te.multirate() && pass != TetPass::All;
+  if (!split) {
+    node_volumes(te, s.x, p);
+  } else {
+    // the slow elements' volume shares are measured at the tick's first substep and held: the
+    // pressure of a node between both groups mixes the held and the current shares
+    double* vs = s.tet_slow_vol.data();
+    if (pass != TetPass::Held) {
+      for (int a = 0; a < nn; ++a) vs[a] = 0.0;
+      add_node_volumes(te, s.x, nf, nt, vs);
+    }
+    for (int a = 0; a < nn; ++a) p[a] = vs[a];
+    add_node_volumes(te, s.x, 0, nf, p);
+  }
   for (int a = 0; a < nn; ++a) p[a] = te.node_kappa[a] * (p[a] * te.node_inv_vol0[a] - 1.0);  // pressure [Pa]
-  const int nt = te.count();
-  for (int t = 0; t < nt; ++t) {
-    const int* v = &te.v[4 * t];
-    const double* g = &te.g[9 * t];
-    const ElementKinematics k = kinematics(te, s.x, t);
-    const double pbar = 0.25 * (p[te.node_slot[v[0]]] + p[te.node_slot[v[1]]] + p[te.node_slot[v[2]]] + p[te.node_slot[v[3]]]);
-    const double mu = te.mu[t];
-    const Mat3 P = (te.vol0[t] * mu) * k.F + (te.vol0[t] * (pbar - mu)) * k.cof;  // V0 x first Piola stress [N m]
-    const Vec3 f1 = -(P * Vec3(g[0], g[1], g[2]));
-    const Vec3 f2 = -(P * Vec3(g[3], g[4], g[5]));
-    const Vec3 f3 = -(P * Vec3(g[6], g[7], g[8]));
-    s.f[v[1]] += f1;
-    s.f[v[2]] += f2;
-    s.f[v[3]] += f3;
-    s.f[v[0]] -= f1 + f2 + f3;
+  const Vec3* x = s.x.data();
+  Vec3* f = s.f.data();
+  switch (pass) {
+    case TetPass::All: element_forces(te, x, p, 0, nt, 1.0, f); return;
+    case TetPass::FastOnly: element_forces(te, x, p, 0, nf, 1.0, f); return;
+    case TetPass::SlowOnly: element_forces(te, x, p, nf, nt, 1.0, f); return;
+    case TetPass::Held: element_forces(te, x, p, 0, nf, 1.0, f); return;
+    case TetPass::TickStart:
+      // the impulse method (Tuckerman, Berne, Martyna 1992, first-order form): the slow force
+      // acts once per tick as a kick of its whole tick's impulse, F dt = (F substeps) h, and not
+      // at all in the tick's other substeps. That is symplectic Euler at the tick for the slow
+      // group (stable for omega dt < 2). Holding F over the substeps instead is not: with
+      // positions updated every substep the scheme gains energy at any step size.
+      element_forces(te, x, p, 0, nf, 1.0, f);
+      element_forces(te, x, p, nf, nt, static_cast<double>(substeps), f);
+      return;
   }
 }
 

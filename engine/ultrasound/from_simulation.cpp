@@ -1,5 +1,6 @@
 #include "engine/ultrasound/from_simulation.h"
 
+#include <cmath>
 #include <filesystem>
 
 namespace ps::us {
@@ -61,6 +62,29 @@ void scene_from_state(const State& s, const ProbeTool* probe, const NeedleTool* 
   }
 }
 
+bool probe_view_from_snapshot(const Snapshot& snap, ProbeView& v) {
+  const DrawCapsule* body = nullptr;
+  const DrawCapsule* guide = nullptr;
+  for (const DrawCapsule& c : snap.draw.capsules) {
+    if (c.role == DrawRole::Probe && !body) body = &c;
+    if (c.role == DrawRole::Guide && !guide) guide = &c;
+  }
+  if (!body || !((body->b - body->a).norm() > 1e-9)) return false;
+  v.tip_centre = body->b;
+  v.axis = (body->b - body->a).normalized();
+  v.radius = body->radius;
+  Vec3 ant = Vec3::UnitY();
+  if (guide) ant = guide->b - body->b;  // guide exit: radius * anterior (+ along the axis)
+  ant -= ant.dot(v.axis) * v.axis;
+  if (!(ant.norm() > 1e-9)) {  // guide on the axis or axis along +y: any perpendicular
+    ant = Vec3::UnitZ() - Vec3::UnitZ().dot(v.axis) * v.axis;
+    if (!(ant.norm() > 1e-9)) ant = Vec3::UnitX() - Vec3::UnitX().dot(v.axis) * v.axis;
+  }
+  v.anterior = ant.normalized();
+  v.lateral = v.axis.cross(v.anterior);
+  return true;
+}
+
 void scene_from_snapshot(const Snapshot& snap, const ProbeView& probe, UltrasoundScene& sc) {
   sc.x = snap.x.data();
   sc.particle_count = static_cast<int>(snap.x.size() / 3);
@@ -85,9 +109,20 @@ void scene_from_snapshot(const Snapshot& snap, const ProbeView& probe, Ultrasoun
     rod.reflect = 10.0f, rod.reverb = 0.45f, rod.shadow = 0.8f;
     sc.rods.push_back(rod);
   }
-  for (const DrawSegment& s : snap.draw.segments)
-    if (s.role == DrawRole::Guide && (s.b - s.a).norm() > 0)
-      sc.overlays.push_back({OverlayLine::Guide, s.a, (s.b - s.a).normalized()});
+  // the guide's planned path is drawn as dashes along one line: one overlay line for all of them
+  for (const DrawSegment& s : snap.draw.segments) {
+    if (s.role != DrawRole::Guide || !((s.b - s.a).norm() > 0)) continue;
+    const Vec3 d = (s.b - s.a).normalized();
+    bool same = false;
+    for (const OverlayLine& o : sc.overlays)
+      if (o.kind == OverlayLine::Guide && std::abs(o.direction.dot(d)) > 0.9999 &&
+          ((s.a - o.entry) - (s.a - o.entry).dot(o.direction) * o.direction).norm() < 1e-5)
+        same = true;
+    if (!same) sc.overlays.push_back({OverlayLine::Guide, s.a, d});
+  }
+  // template holes (the stepper's grid: spheres at the hole entries, lines parallel to the probe axis)
+  for (const DrawSphere& s : snap.draw.spheres)
+    if (s.role == DrawRole::TemplateGrid) sc.overlays.push_back({OverlayLine::TemplateHole, s.centre, probe.axis});
 }
 
 UltrasoundAnatomy anatomy_for_scenario(const ScenarioSpec& spec, const Model& model) {

@@ -35,6 +35,12 @@ ProbeView probe_view(const ProbeFrame& frame, double radius);
 void scene_from_state(const State& state, const ProbeTool* probe, const NeedleTool* needles, const SceneOptions& opt,
                       UltrasoundScene& scene);
 
+// The probe pose as a Snapshot shows it (for threads that read snapshots only): the body capsule
+// (role Probe: back -> tip-hemisphere centre, radius) gives the axis; the biopsy guide (role Guide,
+// on the probe's anterior side) gives the roll; without a guide the anterior is the world's +y
+// (patient anterior) made perpendicular to the axis. False when the snapshot has no probe.
+bool probe_view_from_snapshot(const Snapshot& snapshot, ProbeView& probe);
+
 // Positions from a Snapshot (the scene points into snapshot.x, which must outlive the render),
 // rods from its DrawList (capsules with role Needle, spheres or capsules with role Seed), the
 // probe from `probe` (the render thread keeps the probe frame it was given with the snapshot).

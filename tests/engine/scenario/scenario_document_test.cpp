@@ -288,3 +288,94 @@ TEST(ScenarioDocument, ShippedScenesEditInPlace) {
 
 }  // namespace
 }  // namespace ps
+
+namespace ps {
+namespace {
+
+// Lists: a lesion, a needle, a seed added and removed, in block and flow lists, with undo and redo
+// giving back the exact texts, refusals leaving the text as it was, and a save -> open round trip.
+TEST(ScenarioDocument, AddsAndRemovesListItemsWithUndo) {
+  ScenarioDocument d(kScene, "doc.yaml");
+  ASSERT_TRUE(d.valid()) << d.error()->message;
+  const std::string t0 = d.text();
+  EXPECT_EQ(d.item_count("tags"), 2);
+  // a lesion (block list of block mappings): a new "- {...}" line after the last item
+  const EditResult add = d.add_item("tags", "{name: lesion_c, component: tissue, region: {sphere: {center_mm: [0, 8, -16], radius_mm: 3}}}");
+  ASSERT_TRUE(add.ok) << add.issue->message;
+  ASSERT_EQ(d.spec()->tags.size(), 3u);
+  EXPECT_EQ(d.spec()->tags[2].name, "lesion_c");
+  EXPECT_NEAR(d.spec()->tags[2].region.center.y(), 8e-3, 1e-12);
+  EXPECT_NE(d.text().find("    region: {sphere: {center_mm: [6, 0, -12], radius_mm: 3}}\n  - {name: lesion_c"), std::string::npos) << d.text();
+  EXPECT_NE(d.text().find("# left of the needle"), std::string::npos);
+  const std::string t1 = d.text();
+  // one overlapping lesion_a is refused, naming the new item's region; the text stays
+  const EditResult overlap = d.add_item("tags", "{name: lesion_d, component: tissue, region: {sphere: {center_mm: [-5, 0, -12], radius_mm: 3}}}");
+  EXPECT_FALSE(overlap.ok);
+  ASSERT_TRUE(overlap.issue.has_value());
+  EXPECT_EQ(overlap.issue->field, "tags[3].region") << overlap.issue->message;
+  EXPECT_NE(overlap.issue->message.find("overlaps lesion 'lesion_a'"), std::string::npos) << overlap.issue->message;
+  EXPECT_EQ(d.text(), t1);
+  // a second needle (block list), then seeds (a missing key, then a flow list)
+  ASSERT_TRUE(d.add_item("needles.instruments", "{name: n2, gauge: 18, length_mm: 100, start_mm: [4, 4, 1], direction: [0, 0, -1], script: [[0, 0], [0.5, 12]]}").ok);
+  ASSERT_EQ(d.spec()->needles.needles.size(), 2u);
+  EXPECT_EQ(d.spec()->needles.needles[1].name, "n2");
+  const std::string t2 = d.text();
+  EditResult seed = d.add_item("needles.instruments[n2].seeds_mm", "10");
+  ASSERT_TRUE(seed.ok) << seed.issue->message;
+  ASSERT_TRUE(d.add_item("needles.instruments[n2].seeds_mm", "6").ok);
+  ASSERT_EQ(d.spec()->needles.needles[1].seed_depths.size(), 2u);
+  EXPECT_NE(d.text().find("seeds_mm: [10, 6]}"), std::string::npos) << d.text();
+  // a seed beyond the scripted depth is refused by the parser, naming the seed
+  const EditResult deep = d.add_item("needles.instruments[n2].seeds_mm", "40");
+  EXPECT_FALSE(deep.ok);
+  EXPECT_NE(deep.issue->field.find("seeds_mm"), std::string::npos) << deep.issue->field << ": " << deep.issue->message;
+  ASSERT_TRUE(d.remove_item("needles.instruments[n2].seeds_mm[0]").ok);
+  EXPECT_NE(d.text().find("seeds_mm: [6]}"), std::string::npos) << d.text();
+  ASSERT_TRUE(d.remove_item("needles.instruments[n2].seeds_mm[0]").ok);
+  EXPECT_NE(d.text().find("seeds_mm: []}"), std::string::npos) << d.text();
+  EXPECT_TRUE(d.spec()->needles.needles[1].seed_depths.empty());
+  // removing the needle gives back the text before it, byte for byte
+  ASSERT_TRUE(d.remove_item("needles.instruments[n2]").ok);
+  EXPECT_EQ(d.text(), t1);
+  ASSERT_TRUE(d.remove_item("tags[lesion_c]").ok);
+  EXPECT_EQ(d.text(), t0);
+  // undo walks back through every accepted edit; redo forward again
+  ASSERT_TRUE(d.undo());
+  EXPECT_EQ(d.text(), t1);
+  ASSERT_TRUE(d.undo());
+  ASSERT_TRUE(d.undo());
+  ASSERT_TRUE(d.undo());
+  ASSERT_TRUE(d.undo());
+  ASSERT_TRUE(d.undo());
+  EXPECT_EQ(d.text(), t2);
+  ASSERT_TRUE(d.redo());
+  EXPECT_EQ(d.spec()->needles.needles[1].seed_depths.size(), 1u);
+  // bad paths are refused naming the path
+  EXPECT_FALSE(d.remove_item("tags[nope]").ok);
+  EXPECT_FALSE(d.remove_item("tags").ok);
+  EXPECT_FALSE(d.add_item("tags[0]", "1").ok);
+  // save -> open: the same text and the same compiled model
+  const fs::path dir = temp_dir("items");
+  const std::string file = (dir / "edited.yaml").string();
+  d.save(file);
+  const ScenarioDocument again = ScenarioDocument::open(file);
+  ASSERT_TRUE(again.valid());
+  EXPECT_EQ(again.text(), d.text());
+  EXPECT_EQ(again.model_hash(), d.model_hash());
+  fs::remove_all(dir);
+}
+
+// The only item of a block list: the key keeps "[]" (and its comment); a flow list's middle item.
+TEST(ScenarioDocument, RemovingTheLastItemOfABlockListLeavesAnEmptyList) {
+  const std::string text = "a:\n  b: 1\nitems:   # the list\n  # first\n  - {x: 1}\nafter: 2\nflow: [1, 2, 3]\n";
+  const std::string t = text_with_item_removed(text, "items[0]");
+  EXPECT_EQ(t, "a:\n  b: 1\nitems: [] # the list\nafter: 2\nflow: [1, 2, 3]\n");
+  EXPECT_EQ(text_with_item_removed(text, "flow[1]"), "a:\n  b: 1\nitems:   # the list\n  # first\n  - {x: 1}\nafter: 2\nflow: [1, 3]\n");
+  EXPECT_EQ(text_with_item_removed(text, "flow[2]"), "a:\n  b: 1\nitems:   # the list\n  # first\n  - {x: 1}\nafter: 2\nflow: [1, 2]\n");
+  EXPECT_EQ(text_with_item_removed(text, "flow[0]"), "a:\n  b: 1\nitems:   # the list\n  # first\n  - {x: 1}\nafter: 2\nflow: [2, 3]\n");
+  EXPECT_EQ(text_with_item_added(text, "items", "{x: 2}"), "a:\n  b: 1\nitems:   # the list\n  # first\n  - {x: 1}\n  - {x: 2}\nafter: 2\nflow: [1, 2, 3]\n");
+  EXPECT_EQ(text_with_item_added("l: []\n", "l", "7"), "l: [7]\n");
+}
+
+}  // namespace
+}  // namespace ps

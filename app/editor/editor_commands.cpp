@@ -1,0 +1,224 @@
+#include "app/editor/editor_commands.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "engine/tools/probe_geometry.h"
+#include "engine/util/error.h"
+
+namespace ps::editor {
+
+namespace {
+
+std::string num(double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+std::string vec(const Vec3& v) { return "[" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + "]"; }
+
+EditResult refused(const std::string& field, const std::string& msg) {
+  EditResult r;
+  r.issue = DocumentIssue{field, 0, msg};
+  return r;
+}
+
+bool is_lesion(const std::string& n) { return n.find("lesion") != std::string::npos || n.find("tumo") != std::string::npos; }
+
+const char* shape_key(RegionSpec::Kind k) {
+  switch (k) {
+    case RegionSpec::Sphere: return "sphere";
+    case RegionSpec::Ellipsoid: return "ellipsoid";
+    case RegionSpec::Box: return "box";
+    default: return nullptr;
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> EditorCommands::organs() const {
+  std::vector<std::string> out;
+  if (spec())
+    for (const ComponentSpec& c : spec()->components) out.push_back(c.name);
+  return out;
+}
+
+std::string EditorCommands::material_of(const std::string& organ) const {
+  if (spec())
+    for (const ComponentSpec& c : spec()->components)
+      if (c.name == organ) return c.material;
+  return {};
+}
+
+EditResult EditorCommands::set_material(const std::string& organ, const std::string& field, double value) {
+  const std::string m = material_of(organ);
+  if (m.empty()) return refused("components[" + organ + "].material", "no organ '" + organ + "' with a material");
+  return doc_.set_number("materials." + m + "." + field, value);
+}
+
+std::optional<double> EditorCommands::material_value(const std::string& organ, const std::string& field) const {
+  const std::string m = material_of(organ);
+  if (m.empty()) return std::nullopt;
+  const std::string t = doc_.value_text("materials." + m + "." + field);
+  if (t.empty()) return std::nullopt;
+  char* end = nullptr;
+  const double v = std::strtod(t.c_str(), &end);
+  if (end == t.c_str()) return std::nullopt;
+  return v;
+}
+
+EditResult EditorCommands::set_puncture_weight(const std::string& organ, double n) {
+  return doc_.set_number("needles.puncture_n." + organ, n);
+}
+
+std::vector<RegionView> EditorCommands::regions() const {
+  std::vector<RegionView> out;
+  if (!spec()) return out;
+  for (const TagSpec& t : spec()->tags) {
+    const char* k = shape_key(t.region.kind);
+    if (!k) continue;
+    RegionView v;
+    v.tag = t.name;
+    v.key = "tags[" + t.name + "].region." + k;
+    v.kind = t.region.kind;
+    v.lesion = is_lesion(t.name);
+    switch (t.region.kind) {
+      case RegionSpec::Sphere: v.center_mm = 1e3 * t.region.center; v.size_mm = Vec3::Constant(1e3 * t.region.radius); break;
+      case RegionSpec::Ellipsoid: v.center_mm = 1e3 * t.region.center; v.size_mm = 1e3 * t.region.radii; break;
+      default: v.center_mm = 0.5e3 * (t.region.min + t.region.max); v.size_mm = 0.5e3 * (t.region.max - t.region.min); break;
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
+EditResult EditorCommands::move_region(const std::string& tag, const Vec3& c) {
+  for (const RegionView& v : regions()) {
+    if (v.tag != tag) continue;
+    if (v.kind == RegionSpec::Box) {
+      // a box moves as a whole: both corners in one edit (one undo step)
+      const std::string b = "{min_mm: " + vec(c - v.size_mm) + ", max_mm: " + vec(c + v.size_mm) + "}";
+      return doc_.set(v.key, b);
+    }
+    return doc_.set_vec3(v.key + ".center_mm", c);
+  }
+  return refused("tags[" + tag + "]", "no tag '" + tag + "' with a sphere, ellipsoid or box region");
+}
+
+EditResult EditorCommands::resize_region(const std::string& tag, const Vec3& s) {
+  for (const RegionView& v : regions()) {
+    if (v.tag != tag) continue;
+    if (s.minCoeff() <= 0.0) return refused(v.key, "sizes must be > 0 mm");
+    switch (v.kind) {
+      case RegionSpec::Sphere: return doc_.set_number(v.key + ".radius_mm", s.x());
+      case RegionSpec::Ellipsoid: return doc_.set_vec3(v.key + ".radii_mm", s);
+      default: return doc_.set(v.key, "{min_mm: " + vec(v.center_mm - s) + ", max_mm: " + vec(v.center_mm + s) + "}");
+    }
+  }
+  return refused("tags[" + tag + "]", "no tag '" + tag + "' with a sphere, ellipsoid or box region");
+}
+
+EditResult EditorCommands::add_lesion(const std::string& name, const std::string& organ, const Vec3& c, double r) {
+  if (r <= 0.0) return refused("tags", "the lesion radius must be > 0 mm");
+  return doc_.add_item("tags", "{name: " + name + ", component: " + organ + ", region: {sphere: {center_mm: " + vec(c) +
+                                   ", radius_mm: " + num(r) + "}}}");
+}
+
+EditResult EditorCommands::remove_tag(const std::string& tag) { return doc_.remove_item("tags[" + tag + "]"); }
+
+std::string EditorCommands::needle_key(const std::string& needle) const { return "needles.instruments[" + needle + "]"; }
+
+EditResult EditorCommands::set_needle_target(const std::string& needle, const Vec3& t) {
+  return doc_.set_vec3(needle_key(needle) + ".target_mm", t);
+}
+
+EditResult EditorCommands::set_fill_target_ml(int i, double ml) {
+  return doc_.set_number("filling.schedule[" + std::to_string(i) + "].target_ml", ml);
+}
+EditResult EditorCommands::set_fill_rate_ml_s(int i, double v) {
+  return doc_.set_number("filling.schedule[" + std::to_string(i) + "].rate_ml_s", v);
+}
+EditResult EditorCommands::set_max_fill_rate_ml_s(double v) { return doc_.set_number("filling.max_rate_ml_s", v); }
+
+EditResult EditorCommands::set_probe_pose(const std::string& field, double v) {
+  if (field != "insertion_mm" && field != "roll_deg" && field != "tilt_deg" && field != "yaw_deg")
+    return refused("probe.pose." + field, "not a pose field (insertion_mm, roll_deg, tilt_deg, yaw_deg)");
+  if (!spec() || !spec()->probe) return refused("probe", "the scenario has no probe: section");
+  return doc_.set_number("probe.pose." + field, v);
+}
+
+EditResult EditorCommands::add_template_needle(const std::string& name, int col, int row, double depth_mm, double time_s) {
+  if (!spec() || !spec()->probe || !spec()->probe->has_template) return refused("probe.template", "the probe has no template: section");
+  if (depth_mm <= 0.0 || time_s <= 0.0) return refused("needles.instruments", "depth and time must be > 0");
+  NeedlePath p;
+  try {
+    const ProbeSpec& ps = *spec()->probe;
+    p = template_hole_path(ps, rectal_frame(ps), ps.pose, col, row);
+  } catch (const InputError& e) {
+    return refused("needles.instruments", e.what());
+  }
+  return doc_.add_item("needles.instruments", "{name: " + name + ", preset: brachy_18g, start_mm: " + vec(1e3 * p.entry) +
+                                                  ", direction: " + vec(p.direction) + ", script: [[0, 0], [" + num(time_s) + ", " +
+                                                  num(depth_mm) + "]]}");
+}
+
+EditResult EditorCommands::add_biopsy_core(const std::string& name, const std::string& site, const Vec3& target_mm) {
+  if (!spec() || !spec()->probe || !spec()->probe->has_guide) return refused("probe.needle_guide", "the probe has no needle_guide: section");
+  const ProbeSpec& ps = *spec()->probe;
+  const NeedlePath p = biopsy_guide_path(ps, probe_frame(ps, rectal_frame(ps), ps.pose));
+  return doc_.add_item("needles.instruments", "{name: " + name + ", preset: biopsy_18g, start_mm: " + vec(1e3 * p.entry) +
+                                                  ", direction: " + vec(p.direction) + ", gun: {}, target_mm: " + vec(target_mm) +
+                                                  ", planned_site: " + site + "}");
+}
+
+EditResult EditorCommands::add_seed(const std::string& needle, double depth_mm) {
+  return doc_.add_item(needle_key(needle) + ".seeds_mm", num(depth_mm));
+}
+
+EditResult EditorCommands::remove_seed(const std::string& needle, int i) {
+  return doc_.remove_item(needle_key(needle) + ".seeds_mm[" + std::to_string(i) + "]");
+}
+
+EditResult EditorCommands::remove_needle(const std::string& needle) { return doc_.remove_item(needle_key(needle)); }
+
+EditResult EditorCommands::set_needle_depth(const std::string& needle, double depth_mm, double time_s) {
+  return doc_.set(needle_key(needle) + ".script", "[[0, 0], [" + num(time_s) + ", " + num(depth_mm) + "]]");
+}
+
+Scene EditorCommands::preview_scene() const {
+  if (!spec()) throw InputError(doc_.path(), doc_.error() ? doc_.error()->line : 0, doc_.error() ? doc_.error()->field : "",
+                                doc_.error() ? doc_.error()->message : "invalid scenario");
+  return build_scene(*spec());
+}
+
+void FieldErrors::note(const std::string& widget_key, const EditResult& r) {
+  if (r.ok) {
+    messages_.erase(widget_key);
+    // an accepted edit settles the messages it named
+    for (auto it = messages_.begin(); it != messages_.end();) {
+      const std::string& k = it->first;
+      const bool below = k.rfind(widget_key, 0) == 0 && (k.size() == widget_key.size() || k[widget_key.size()] == '.' || k[widget_key.size()] == '[');
+      it = below ? messages_.erase(it) : std::next(it);
+    }
+    return;
+  }
+  const std::string msg = r.issue ? r.issue->message : "refused";
+  messages_[widget_key] = msg;
+  if (r.issue && !r.issue->field.empty()) messages_[r.issue->field] = msg;
+}
+
+std::string FieldErrors::for_key(const std::string& key) const {
+  auto it = messages_.find(key);
+  if (it != messages_.end()) return it->second;
+  // a key below it, or the item it belongs to: the prefix must end at a '.' or '['
+  auto under = [](const std::string& a, const std::string& b) {
+    return a.size() > b.size() && a.rfind(b, 0) == 0 && (a[b.size()] == '.' || a[b.size()] == '[');
+  };
+  for (const auto& [k, m] : messages_)
+    if (under(k, key) || under(key, k)) return m;
+  return {};
+}
+
+}  // namespace ps::editor

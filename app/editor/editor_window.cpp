@@ -1,0 +1,658 @@
+#include "app/editor/editor_window.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/editor/editor_commands.h"
+#include "engine/io/png_write.h"
+#include "engine/realtime/lockstep.h"
+#include "engine/tools/needle.h"
+#include "engine/util/error.h"
+#include "render/gl_api.h"
+#include "render/render_error.h"
+#include "render/renderer.h"
+
+namespace ps::editor {
+
+namespace {
+
+constexpr float kPanel = 440.0f;  // editing panel width [px]
+const ImVec4 kRed(1.0f, 0.42f, 0.42f, 1.0f), kDim(0.65f, 0.65f, 0.7f, 1.0f), kHead(0.6f, 0.9f, 1.0f, 1.0f);
+const char* kMaterialFields[] = {"young_kpa", "damping_1_s", "density_kg_m3", "k_c_n", "k_f_n"};
+const char* kSites[] = {"right base lateral", "right base medial", "right mid lateral", "right mid medial",
+                        "right apex lateral", "right apex medial", "left base lateral", "left base medial",
+                        "left mid lateral", "left mid medial", "left apex lateral", "left apex medial"};
+
+double number_or(const std::string& t, double fallback) {
+  if (t.empty()) return fallback;
+  char* end = nullptr;
+  const double v = std::strtod(t.c_str(), &end);
+  return end == t.c_str() ? fallback : v;
+}
+
+// What the 3D view shows beside the tissue and can drag: a lesion / target region, or a needle's
+// target point.
+struct Handle {
+  enum Kind { Region, Target } kind = Region;
+  std::string name;                // tag or needle
+  Vec3 pos_mm = Vec3::Zero();
+  double radius_mm = 0.0;
+  bool lesion = false;
+};
+
+struct Preview {
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<LockstepRunner> runner;
+  std::unique_ptr<render::Renderer> renderer;
+  uint64_t model_hash = 0;
+  bool running = false;
+  std::string error;
+};
+
+struct Ui {
+  render::OrbitCamera orbit;
+  render::RenderOptions ropt;
+  int organ = 0;
+  char open_path[512] = {};
+  char save_as[512] = {};
+  char any_key[256] = {};
+  char any_value[256] = {};
+  char new_lesion[64] = "lesion_2";
+  double new_lesion_c[3] = {0, 0, 0};
+  double new_lesion_r = 4.0;
+  char new_needle[64] = "t_new";
+  int hole[2] = {6, 2};
+  double hole_depth = 60.0;
+  int site = 2;
+  double core_target[3] = {10, -5, 0};
+  double seed_depth[64] = {};
+  std::string status;              // last save / open message
+  bool status_error = false;
+  std::string selected;            // handle name
+  Handle::Kind selected_kind = Handle::Region;
+  bool dragging = false;
+  Vec3 drag_mm = Vec3::Zero();     // offset of the dragged handle [mm]
+  bool orbiting = false;
+};
+
+// A number field bound to a key path: Enter applies `apply(value)`; the message of a refused edit
+// is shown under it, in red.
+template <class F>
+void number_field(FieldErrors& errs, const char* label, const std::string& key, double value, F apply, const char* fmt = "%.4g") {
+  double v = value;
+  ImGui::SetNextItemWidth(150);
+  if (ImGui::InputDouble(label, &v, 0.0, 0.0, fmt, ImGuiInputTextFlags_EnterReturnsTrue)) errs.note(key, apply(v));
+  const std::string m = errs.for_key(key);
+  if (!m.empty()) ImGui::TextColored(kRed, "  %s", m.c_str());
+}
+
+template <class F>
+void vec_field(FieldErrors& errs, const char* label, const std::string& key, const Vec3& value, F apply) {
+  double v[3] = {value.x(), value.y(), value.z()};
+  ImGui::SetNextItemWidth(240);
+  if (ImGui::InputScalarN(label, ImGuiDataType_Double, v, 3, nullptr, nullptr, "%.3g", ImGuiInputTextFlags_EnterReturnsTrue))
+    errs.note(key, apply(Vec3(v[0], v[1], v[2])));
+  const std::string m = errs.for_key(key);
+  if (!m.empty()) ImGui::TextColored(kRed, "  %s", m.c_str());
+}
+
+std::vector<Handle> handles(const EditorCommands& c) {
+  std::vector<Handle> out;
+  for (const RegionView& r : c.regions()) out.push_back({Handle::Region, r.tag, r.center_mm, r.size_mm.maxCoeff(), r.lesion});
+  if (c.spec())
+    for (const NeedleSpec& n : c.spec()->needles.needles)
+      if (n.target) out.push_back({Handle::Target, n.name, 1e3 * *n.target, 1.5, false});
+  return out;
+}
+
+// Rebuilds the preview scene (and its renderer when the model changed) from the document.
+void rebuild(Preview& p, const EditorCommands& c, Ui& ui) {
+  p.running = false;
+  p.error.clear();
+  if (!c.doc().valid()) {
+    p.scene.reset();
+    p.runner.reset();
+    p.renderer.reset();
+    p.model_hash = 0;
+    return;
+  }
+  try {
+    auto scene = std::make_unique<Scene>(c.preview_scene());
+    auto runner = std::make_unique<LockstepRunner>(*scene->sim);
+    const bool new_model = !p.renderer || p.model_hash != c.doc().model_hash();
+    if (new_model) {
+      std::string urethra;
+      for (const auto& comp : scene->spec.components)
+        if (comp.name == "prostate" && !comp.shape.mesh.file.empty()) urethra = render::urethra_file_beside(comp.shape.mesh.file);
+      auto r = std::make_unique<render::Renderer>(render::make_render_scene(*scene->model, urethra));
+      if (!p.renderer) {
+        ui.orbit.target = r->scene().focus;
+        ui.orbit.distance = r->scene().extent * 3.0;
+      }
+      ui.ropt.opacity.clear();
+      for (const auto& s : r->scene().surfaces) ui.ropt.opacity.push_back(s.colour.a);
+      p.renderer = std::move(r);
+    }
+    p.runner.reset();
+    p.scene = std::move(scene);
+    p.runner = std::move(runner);
+    p.model_hash = c.doc().model_hash();
+  } catch (const std::exception& e) {
+    p.error = e.what();
+    p.scene.reset();
+    p.runner.reset();
+    p.renderer.reset();
+  }
+}
+
+// Screen position of a world point [m] in the 3D view (ImGui pixels), false behind the camera.
+bool project(const render::Camera& cam, float vx, float vw, float vh, const Vec3& x, ImVec2& out, float* px_per_m = nullptr) {
+  const Eigen::Matrix4f m = cam.projection(vw / vh) * cam.view();
+  const Eigen::Vector4f c = m * Eigen::Vector4f(static_cast<float>(x.x()), static_cast<float>(x.y()), static_cast<float>(x.z()), 1.0f);
+  if (c.w() <= 1e-6f) return false;
+  out = ImVec2(vx + (c.x() / c.w() * 0.5f + 0.5f) * vw, (1.0f - (c.y() / c.w() * 0.5f + 0.5f)) * vh);
+  if (px_per_m) *px_per_m = static_cast<float>(vh / (2.0 * c.w() * std::tan(cam.fov_y_deg * 3.14159265358979 / 360.0)));
+  return true;
+}
+
+void write_screenshot(const std::string& path, int fbw, int fbh, int& rc) {
+  std::vector<uint8_t> rgba(4 * static_cast<size_t>(fbw) * fbh), rgb(3 * static_cast<size_t>(fbw) * fbh);
+  gl::api.PixelStorei(GL_PACK_ALIGNMENT, 1);
+  gl::api.ReadPixels(0, 0, fbw, fbh, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  for (int y = 0; y < fbh; ++y)
+    for (int x = 0; x < fbw; ++x)
+      for (int k = 0; k < 3; ++k) rgb[3 * (static_cast<size_t>(y) * fbw + x) + k] = rgba[4 * (static_cast<size_t>(fbh - 1 - y) * fbw + x) + k];
+  try {
+    write_png_atomic(path, fbw, fbh, 3, rgb.data());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    rc = 2;
+  }
+}
+
+std::string issue_text(const ScenarioDocument& d, const DocumentIssue& i) {
+  return d.path() + ":" + std::to_string(i.line) + ": '" + i.field + "': " + i.message;
+}
+
+// --- panels ---
+
+void document_panel(std::unique_ptr<EditorCommands>& cmds, FieldErrors& errs, Ui& ui, bool& reopen) {
+  ImGui::SetNextItemWidth(300);
+  ImGui::InputText("##open", ui.open_path, sizeof ui.open_path);
+  ImGui::SameLine();
+  if (ImGui::Button("Open")) reopen = true;
+  if (!cmds) return;
+  EditorCommands& c = *cmds;
+  if (ImGui::Button("Save")) {
+    try {
+      c.save();
+      ui.status = "saved " + c.doc().path();
+      ui.status_error = false;
+    } catch (const std::exception& e) {
+      ui.status = e.what();
+      ui.status_error = true;
+    }
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Undo") || (ImGui::GetIO().KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Z, false) && !ImGui::GetIO().WantTextInput)) {
+    if (c.undo()) errs.clear();
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Redo") || (ImGui::GetIO().KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Y, false) && !ImGui::GetIO().WantTextInput)) {
+    if (c.redo()) errs.clear();
+  }
+  ImGui::SameLine();
+  ImGui::TextColored(kDim, "%s%s", c.doc().modified() ? "modified" : "saved", c.doc().can_undo() ? "" : "");
+  ImGui::SetNextItemWidth(240);
+  ImGui::InputText("##saveas", ui.save_as, sizeof ui.save_as);
+  ImGui::SameLine();
+  if (ImGui::Button("Save as") && ui.save_as[0]) {
+    try {
+      c.save(ui.save_as);
+      ui.status = std::string("saved ") + ui.save_as;
+      ui.status_error = false;
+    } catch (const std::exception& e) {
+      ui.status = e.what();
+      ui.status_error = true;
+    }
+  }
+  if (!ui.status.empty()) ImGui::TextColored(ui.status_error ? kRed : kDim, "%s", ui.status.c_str());
+  if (const auto& e = c.doc().error()) {
+    ImGui::TextColored(kRed, "The scenario is invalid:");
+    ImGui::PushTextWrapPos(kPanel - 10);
+    ImGui::TextColored(kRed, "%s", issue_text(c.doc(), *e).c_str());
+    ImGui::PopTextWrapPos();
+    ImGui::TextColored(kDim, "Fix it below (any key path), then save.");
+  } else {
+    ImGui::TextColored(kDim, "model hash %016llx", static_cast<unsigned long long>(c.doc().model_hash()));
+  }
+}
+
+void any_key_panel(EditorCommands& c, FieldErrors& errs, Ui& ui) {
+  ImGui::SetNextItemWidth(250);
+  ImGui::InputText("key path", ui.any_key, sizeof ui.any_key);
+  if (ImGui::IsItemEdited()) std::snprintf(ui.any_value, sizeof ui.any_value, "%s", c.doc().value_text(ui.any_key).c_str());
+  ImGui::SetNextItemWidth(250);
+  const bool enter = ImGui::InputText("value", ui.any_value, sizeof ui.any_value, ImGuiInputTextFlags_EnterReturnsTrue);
+  ImGui::SameLine();
+  if ((ImGui::Button("Apply") || enter) && ui.any_key[0]) errs.note(ui.any_key, c.doc().set(ui.any_key, ui.any_value));
+  const std::string m = errs.for_key(ui.any_key);
+  if (ui.any_key[0] && !m.empty()) ImGui::TextColored(kRed, "  %s", m.c_str());
+}
+
+void organ_panel(EditorCommands& c, FieldErrors& errs, Ui& ui) {
+  const std::vector<std::string> organs = c.organs();
+  if (organs.empty()) return;
+  ui.organ = std::clamp(ui.organ, 0, static_cast<int>(organs.size()) - 1);
+  ImGui::SetNextItemWidth(200);
+  if (ImGui::BeginCombo("organ", organs[ui.organ].c_str())) {
+    for (int i = 0; i < static_cast<int>(organs.size()); ++i)
+      if (ImGui::Selectable(organs[i].c_str(), i == ui.organ)) ui.organ = i;
+    ImGui::EndCombo();
+  }
+  const std::string organ = organs[ui.organ], mat = c.material_of(organ);
+  ImGui::TextColored(kDim, "material: %s", mat.c_str());
+  for (const char* f : kMaterialFields) {
+    const std::string key = "materials." + mat + "." + f;
+    number_field(errs, f, key, c.material_value(organ, f).value_or(NAN), [&](double v) { return c.set_material(organ, f, v); });
+  }
+  if (c.spec() && !c.spec()->needles.needles.empty()) {
+    const std::string key = "needles.puncture_n." + organ;
+    number_field(errs, "puncture weight [N]", key, number_or(c.doc().value_text(key), NAN),
+                 [&](double v) { return c.set_puncture_weight(organ, v); });
+  }
+}
+
+void lesion_panel(EditorCommands& c, FieldErrors& errs, Ui& ui) {
+  for (const RegionView& r : c.regions()) {
+    ImGui::PushID(r.tag.c_str());
+    const bool sel = ui.selected == r.tag && ui.selected_kind == Handle::Region;
+    if (ImGui::Selectable((r.tag + (r.lesion ? "  (lesion)" : "")).c_str(), sel)) { ui.selected = r.tag; ui.selected_kind = Handle::Region; }
+    vec_field(errs, "centre [mm]", r.key + ".center_mm", r.center_mm, [&](const Vec3& v) { return c.move_region(r.tag, v); });
+    vec_field(errs, r.kind == RegionSpec::Sphere ? "radius [mm]" : r.kind == RegionSpec::Box ? "half size [mm]" : "radii [mm]", r.key,
+              r.size_mm, [&](const Vec3& v) { return c.resize_region(r.tag, r.kind == RegionSpec::Sphere ? Vec3::Constant(v.x()) : v); });
+    const std::string tag_msg = errs.for_key("tags[" + r.tag + "]");
+    if (!tag_msg.empty()) ImGui::TextColored(kRed, "  %s", tag_msg.c_str());
+    if (ImGui::SmallButton("remove")) errs.note("tags[" + r.tag + "]", c.remove_tag(r.tag));
+    ImGui::PopID();
+  }
+  ImGui::Separator();
+  ImGui::SetNextItemWidth(120);
+  ImGui::InputText("##newlesion", ui.new_lesion, sizeof ui.new_lesion);
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(60);
+  ImGui::InputDouble("r [mm]", &ui.new_lesion_r, 0, 0, "%.3g");
+  ImGui::SetNextItemWidth(240);
+  ImGui::InputScalarN("centre##new", ImGuiDataType_Double, ui.new_lesion_c, 3, nullptr, nullptr, "%.3g");
+  const std::vector<std::string> organs = c.organs();
+  if (ImGui::Button("Add lesion") && !organs.empty()) {
+    const std::string organ = organs[std::clamp(ui.organ, 0, static_cast<int>(organs.size()) - 1)];
+    errs.note("tags", c.add_lesion(ui.new_lesion, organ, Vec3(ui.new_lesion_c[0], ui.new_lesion_c[1], ui.new_lesion_c[2]), ui.new_lesion_r));
+  }
+  ImGui::SameLine();
+  ImGui::TextColored(kDim, "in the organ picked above");
+  const std::string m = errs.for_key("tags");
+  if (!m.empty()) ImGui::TextColored(kRed, "  %s", m.c_str());
+}
+
+void fill_probe_panel(EditorCommands& c, FieldErrors& errs) {
+  const ScenarioSpec* s = c.spec();
+  if (s && s->filling) {
+    ImGui::TextColored(kHead, "Bladder filling");
+    number_field(errs, "max rate [ml/s]", "filling.max_rate_ml_s", s->filling->max_rate * 1e6, [&](double v) { return c.set_max_fill_rate_ml_s(v); });
+    for (int i = 0; i < static_cast<int>(s->filling->schedule.size()); ++i) {
+      ImGui::PushID(i);
+      const std::string k = "filling.schedule[" + std::to_string(i) + "]";
+      ImGui::TextColored(kDim, "segment %d", i);
+      const std::string vol = c.doc().value_text(k + ".target_ml"), rate = c.doc().value_text(k + ".rate_ml_s");
+      if (!vol.empty() || rate.empty())
+        number_field(errs, "volume [ml]", k + ".target_ml", number_or(vol, NAN), [&](double v) { return c.set_fill_target_ml(i, v); });
+      if (!rate.empty())
+        number_field(errs, "fill rate [ml/s]", k + ".rate_ml_s", number_or(rate, NAN), [&](double v) { return c.set_fill_rate_ml_s(i, v); });
+      ImGui::PopID();
+    }
+  }
+  if (s && s->probe) {
+    ImGui::TextColored(kHead, "Probe start pose");
+    for (const char* f : {"insertion_mm", "roll_deg", "tilt_deg", "yaw_deg"}) {
+      const std::string key = std::string("probe.pose.") + f;
+      number_field(errs, f, key, number_or(c.doc().value_text(key), 0.0), [&](double v) { return c.set_probe_pose(f, v); });
+    }
+  }
+}
+
+void needle_panel(EditorCommands& c, FieldErrors& errs, Ui& ui) {
+  const ScenarioSpec* s = c.spec();
+  if (!s) return;
+  int idx = 0;
+  for (const NeedleSpec& n : s->needles.needles) {
+    ImGui::PushID(n.name.c_str());
+    const std::string key = "needles.instruments[" + n.name + "]";
+    ImGui::TextColored(kHead, "%s", n.name.c_str());
+    if (!n.planned_site.empty()) { ImGui::SameLine(); ImGui::TextColored(kDim, "(%s)", n.planned_site.c_str()); }
+    ImGui::SameLine();
+    if (ImGui::SmallButton("remove")) errs.note(key, c.remove_needle(n.name));
+    // no target_mm: the metrics aim at the deepest scripted point; the field starts there
+    Vec3 aim = n.target ? Vec3(1e3 * *n.target) : Vec3(1e3 * n.start);
+    if (!n.target && !n.script.empty()) aim = 1e3 * (n.start + n.script.back().depth * n.direction.normalized());
+    vec_field(errs, n.target ? "target [mm]" : "target [mm] (not set)", key + ".target_mm", aim,
+              [&](const Vec3& v) { return c.set_needle_target(n.name, v); });
+    if (!n.script.empty()) {
+      const double t = n.script.back().t, d = 1e3 * n.script.back().depth;
+      number_field(errs, "depth [mm]", key + ".script", d, [&](double v) { return c.set_needle_depth(n.name, v, std::max(t, 0.1)); });
+    }
+    for (int k = 0; k < static_cast<int>(n.seed_depths.size()); ++k) {
+      ImGui::PushID(k);
+      ImGui::TextColored(kDim, "  seed %d at %.1f mm", k, 1e3 * n.seed_depths[k]);
+      ImGui::SameLine();
+      if (ImGui::SmallButton("x")) errs.note(key + ".seeds_mm", c.remove_seed(n.name, k));
+      ImGui::PopID();
+    }
+    if (idx < 64) {
+      ImGui::SetNextItemWidth(80);
+      ImGui::InputDouble("##seed", &ui.seed_depth[idx], 0, 0, "%.3g");
+      ImGui::SameLine();
+      if (ImGui::SmallButton("add seed [mm]")) errs.note(key + ".seeds_mm", c.add_seed(n.name, ui.seed_depth[idx]));
+      const std::string m = errs.for_key(key + ".seeds_mm");
+      if (!m.empty()) ImGui::TextColored(kRed, "  %s", m.c_str());
+    }
+    const std::string m = errs.for_key(key);
+    if (!m.empty()) ImGui::TextColored(kRed, "  %s", m.c_str());
+    ImGui::PopID();
+    ++idx;
+  }
+  ImGui::Separator();
+  ImGui::SetNextItemWidth(120);
+  ImGui::InputText("name##newneedle", ui.new_needle, sizeof ui.new_needle);
+  if (s->probe && s->probe->has_template) {
+    ImGui::SetNextItemWidth(120);
+    ImGui::InputInt2("hole col, row", ui.hole);
+    ImGui::SetNextItemWidth(120);
+    ImGui::InputDouble("depth [mm]##hole", &ui.hole_depth, 0, 0, "%.3g");
+    if (ImGui::Button("Add template needle")) errs.note("needles.instruments", c.add_template_needle(ui.new_needle, ui.hole[0], ui.hole[1], ui.hole_depth));
+  }
+  if (s->probe && s->probe->has_guide) {
+    ImGui::SetNextItemWidth(220);
+    ImGui::Combo("planned site", &ui.site, kSites, 12);
+    ImGui::SetNextItemWidth(240);
+    ImGui::InputScalarN("target##core", ImGuiDataType_Double, ui.core_target, 3, nullptr, nullptr, "%.3g");
+    if (ImGui::Button("Add planned core"))
+      errs.note("needles.instruments",
+                c.add_biopsy_core(ui.new_needle, kSites[ui.site], Vec3(ui.core_target[0], ui.core_target[1], ui.core_target[2])));
+  }
+  const std::string m = errs.for_key("needles.instruments");
+  if (!m.empty()) ImGui::TextColored(kRed, "  %s", m.c_str());
+}
+
+}  // namespace
+
+int run_editor(const EditorArgs& a) {
+  int rc = 0;
+  std::unique_ptr<EditorCommands> cmds;
+  FieldErrors errs;
+  auto open_doc = [&](const std::string& path, std::string& why) {
+    try {
+      cmds = std::make_unique<EditorCommands>(EditorCommands::open(path));
+      errs.clear();
+      return true;
+    } catch (const std::exception& e) {
+      why = e.what();
+      return false;
+    }
+  };
+  if (!a.scenario.empty()) {
+    std::string why;
+    if (!open_doc(a.scenario, why)) {
+      std::fprintf(stderr, "error: %s\n", why.c_str());
+      return 2;
+    }
+    if (const auto& e = cmds->doc().error()) std::fprintf(stderr, "warning: %s\n", issue_text(cmds->doc(), *e).c_str());
+  }
+  // scripted edits (through the same command path as the widgets)
+  for (const std::string& kv : a.sets) {
+    const size_t eq = kv.find('=');
+    if (!cmds || eq == std::string::npos) {
+      std::fprintf(stderr, "error: --set '%s': expected KEY=VALUE with a scenario\n", kv.c_str());
+      return 2;
+    }
+    const std::string key = kv.substr(0, eq);
+    const EditResult r = cmds->doc().set(key, kv.substr(eq + 1));
+    errs.note(key, r);
+    if (!r.ok) {
+      std::fprintf(stderr, "error: %s\n", issue_text(cmds->doc(), *r.issue).c_str());
+      rc = 2;
+    }
+  }
+  if ((a.save || !a.save_as.empty()) && cmds && rc == 0) {
+    try {
+      cmds->save(a.save_as);
+      std::printf("saved %s (model hash %016llx)\n", a.save_as.empty() ? cmds->doc().path().c_str() : a.save_as.c_str(),
+                  static_cast<unsigned long long>(cmds->doc().model_hash()));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      rc = 2;
+    }
+  }
+
+  glfwSetErrorCallback([](int code, const char* msg) { std::fprintf(stderr, "GLFW error %d: %s\n", code, msg); });
+  if (!glfwInit()) {
+    std::fprintf(stderr, "error: cannot open a window (no display?)\n");
+    return 4;
+  }
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_SAMPLES, 4);
+  GLFWwindow* win = glfwCreateWindow(1600, 900, "ProstateSim scenario editor", nullptr, nullptr);
+  if (!win) {
+    glfwTerminate();
+    std::fprintf(stderr, "error: cannot create an OpenGL 3.3 core window\n");
+    return 4;
+  }
+  glfwMakeContextCurrent(win);
+  glfwSwapInterval(1);
+  try {
+    gl::load([](const char* n) { return reinterpret_cast<void*>(glfwGetProcAddress(n)); });
+  } catch (const render::RenderError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    glfwDestroyWindow(win);
+    glfwTerminate();
+    return 4;
+  }
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = nullptr;
+  ImGui::StyleColorsDark();
+  ImGui_ImplGlfw_InitForOpenGL(win, true);
+  ImGui_ImplOpenGL3_Init("#version 330");
+  {
+    Ui ui;
+    Preview pv;
+    std::snprintf(ui.open_path, sizeof ui.open_path, "%s", a.scenario.c_str());
+    std::string shown_text;  // document text the preview was built from
+    bool scripted_preview_done = false;
+    int frame = 0;
+    while (!glfwWindowShouldClose(win)) {
+      glfwPollEvents();
+      if (cmds && cmds->doc().text() != shown_text) {
+        rebuild(pv, *cmds, ui);
+        shown_text = cmds->doc().text();
+      }
+      if (a.preview_s > 0.0 && !scripted_preview_done && pv.runner) {
+        // scripted preview: the same lock-step ticks as `prostatesim replay` / `run --unpaced`
+        scripted_preview_done = true;
+        pv.runner->advance_to(std::llround(a.preview_s / pv.scene->model->dt));
+        std::printf("preview: %lld ticks, t = %.4g s, state hash %016llx%s\n", static_cast<long long>(pv.runner->tick()),
+                    pv.scene->sim->state().time, static_cast<unsigned long long>(pv.runner->hash()), pv.runner->faulted() ? " (faulted)" : "");
+      }
+      // preview: the simulation runs in place, a few ticks a frame
+      if (pv.running && pv.runner && !pv.runner->faulted()) {
+        const int n = std::max(1, static_cast<int>(std::lround(0.016 / pv.scene->model->dt)));
+        for (int k = 0; k < std::min(n, 8); ++k) pv.runner->step();
+      }
+      ImGui_ImplOpenGL3_NewFrame();
+      ImGui_ImplGlfw_NewFrame();
+      ImGui::NewFrame();
+      const ImVec2 ds = io.DisplaySize;
+      ImGui::SetNextWindowPos(ImVec2(0, 0));
+      ImGui::SetNextWindowSize(ImVec2(kPanel, ds.y));
+      ImGui::Begin("Scenario editor", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+      bool reopen = false;
+      document_panel(cmds, errs, ui, reopen);
+      if (cmds) {
+        EditorCommands& c = *cmds;
+        if (c.spec()) {
+          if (ImGui::CollapsingHeader("Organs and materials", ImGuiTreeNodeFlags_DefaultOpen)) organ_panel(c, errs, ui);
+          if (ImGui::CollapsingHeader("Lesions and targets", ImGuiTreeNodeFlags_DefaultOpen)) lesion_panel(c, errs, ui);
+          if ((c.spec()->filling || c.spec()->probe) && ImGui::CollapsingHeader("Bladder and probe", ImGuiTreeNodeFlags_DefaultOpen))
+            fill_probe_panel(c, errs);
+          if (ImGui::CollapsingHeader("Needle plan", ImGuiTreeNodeFlags_DefaultOpen)) needle_panel(c, errs, ui);
+          if (ImGui::CollapsingHeader("Preview", ImGuiTreeNodeFlags_DefaultOpen)) {
+            if (ImGui::Button(pv.running ? "Pause" : "Run")) pv.running = !pv.running;
+            ImGui::SameLine();
+            if (ImGui::Button("Reset")) { pv.running = false; if (pv.runner) pv.runner->reset(); }
+            if (pv.runner) {
+              ImGui::SameLine();
+              ImGui::Text("t = %.3f s", pv.scene->sim->state().time);
+              if (pv.runner->faulted()) ImGui::TextColored(kRed, "fault: %s", pv.scene->sim->state().fault.describe(*pv.scene->model).c_str());
+            }
+            if (!pv.error.empty()) ImGui::TextColored(kRed, "%s", pv.error.c_str());
+          }
+        }
+        if (ImGui::CollapsingHeader("Any key", c.spec() ? 0 : ImGuiTreeNodeFlags_DefaultOpen)) any_key_panel(c, errs, ui);
+      }
+      ImGui::End();
+      if (reopen) {
+        std::string why;
+        if (open_doc(ui.open_path, why)) { ui.status = std::string("opened ") + ui.open_path; ui.status_error = false; shown_text.clear(); pv = Preview{}; }
+        else { ui.status = why; ui.status_error = true; }
+      }
+
+      // --- 3D view: handles drawn over it, picked and dragged in the view plane ---
+      const float vx = kPanel, vw = std::max(1.0f, ds.x - kPanel), vh = std::max(1.0f, ds.y);
+      render::Camera cam;
+      if (pv.renderer) cam = render::preset_camera(render::View::Orbit, pv.renderer->scene(), nullptr, ui.orbit);
+      std::vector<Handle> hs = cmds ? handles(*cmds) : std::vector<Handle>{};
+      ImDrawList* fg = ImGui::GetForegroundDrawList();
+      const bool in_view = !io.WantCaptureMouse && io.MousePos.x > vx;
+      if (pv.renderer) {
+        if (in_view && ImGui::IsMouseClicked(0)) {
+          float best = 18.0f;
+          ui.dragging = false;
+          ui.orbiting = true;
+          for (const Handle& h : hs) {
+            ImVec2 p;
+            float ppm = 0;
+            if (!project(cam, vx, vw, vh, 1e-3 * h.pos_mm, p, &ppm)) continue;
+            const float r = std::max(6.0f, static_cast<float>(1e-3 * h.radius_mm) * ppm);
+            const float d = std::hypot(p.x - io.MousePos.x, p.y - io.MousePos.y);
+            if (d < std::max(best, r)) { best = d; ui.selected = h.name; ui.selected_kind = h.kind; ui.dragging = true; ui.orbiting = false; }
+          }
+          ui.drag_mm = Vec3::Zero();
+        }
+        if (ImGui::IsMouseDown(0) && ui.dragging) {
+          // the view plane through the handle: camera right and up, scaled by its distance
+          const Eigen::Matrix4f v = cam.view();
+          const Vec3 right(v(0, 0), v(0, 1), v(0, 2)), up(v(1, 0), v(1, 1), v(1, 2));
+          for (const Handle& h : hs)
+            if (h.name == ui.selected && h.kind == ui.selected_kind) {
+              const double dist = (1e-3 * h.pos_mm - cam.eye).norm();
+              const double m_per_px = 2.0 * dist * std::tan(cam.fov_y_deg * 3.14159265358979 / 360.0) / vh;
+              ui.drag_mm += 1e3 * m_per_px * (io.MouseDelta.x * right - io.MouseDelta.y * up);
+            }
+        } else if (ui.dragging && ImGui::IsMouseReleased(0)) {
+          ui.dragging = false;
+          if (cmds && ui.drag_mm.norm() > 0.05)
+            for (const Handle& h : hs)
+              if (h.name == ui.selected && h.kind == ui.selected_kind) {
+                const Vec3 to = (h.pos_mm + ui.drag_mm).array().round().matrix();  // whole mm
+                if (h.kind == Handle::Region) errs.note("tags[" + h.name + "]", cmds->move_region(h.name, to));
+                else errs.note("needles.instruments[" + h.name + "].target_mm", cmds->set_needle_target(h.name, to));
+              }
+          ui.drag_mm = Vec3::Zero();
+        }
+        if (!ImGui::IsMouseDown(0)) ui.orbiting = false;
+        if (in_view) {
+          const ImVec2 d = io.MouseDelta;
+          if ((ui.orbiting && ImGui::IsMouseDown(0)) || ImGui::IsMouseDown(1)) ui.orbit.rotate(-0.3 * d.x, 0.3 * d.y);
+          if (ImGui::IsMouseDown(2)) ui.orbit.pan(-d.x * ui.orbit.distance / vh, d.y * ui.orbit.distance / vh);
+          if (io.MouseWheel != 0.0f) ui.orbit.zoom(std::pow(0.9, io.MouseWheel));
+        }
+        for (const Handle& h : hs) {
+          const bool sel = h.name == ui.selected && h.kind == ui.selected_kind;
+          const Vec3 at = 1e-3 * (h.pos_mm + (sel && ui.dragging ? ui.drag_mm : Vec3::Zero()));
+          ImVec2 p;
+          float ppm = 0;
+          if (!project(cam, vx, vw, vh, at, p, &ppm)) continue;
+          const ImU32 col = sel ? IM_COL32(255, 230, 60, 255) : h.kind == Handle::Target ? IM_COL32(255, 80, 80, 255) : IM_COL32(80, 255, 120, 255);
+          if (h.kind == Handle::Region) fg->AddCircle(p, std::max(6.0f, static_cast<float>(1e-3 * h.radius_mm) * ppm), col, 32, sel ? 3.0f : 1.5f);
+          else {
+            fg->AddLine(ImVec2(p.x - 8, p.y - 8), ImVec2(p.x + 8, p.y + 8), col, 2.0f);
+            fg->AddLine(ImVec2(p.x - 8, p.y + 8), ImVec2(p.x + 8, p.y - 8), col, 2.0f);
+          }
+          char label[160];
+          const Vec3 mm = 1e3 * at;
+          std::snprintf(label, sizeof label, "%s [%.0f, %.0f, %.0f] mm", h.name.c_str(), mm.x(), mm.y(), mm.z());
+          fg->AddText(ImVec2(p.x + 10, p.y - 18), col, label);
+        }
+        fg->AddText(ImVec2(vx + 10, vh - 22), IM_COL32(200, 200, 200, 255),
+                    "left drag a lesion or target: move it in the view plane | left/right drag: orbit | wheel: zoom | Ctrl+Z / Ctrl+Y");
+      } else {
+        const char* why = !cmds ? "open a scenario file (left)" : pv.error.empty() ? "the scenario is invalid: fix it on the left" : pv.error.c_str();
+        fg->AddText(ImVec2(vx + 20, vh * 0.5f), IM_COL32(230, 120, 120, 255), why);
+      }
+
+      ImGui::Render();
+      int fbw = 0, fbh = 0;
+      glfwGetFramebufferSize(win, &fbw, &fbh);
+      const float sx = ds.x > 0 ? fbw / ds.x : 1.0f, sy = ds.y > 0 ? fbh / ds.y : 1.0f;
+      gl::api.BindFramebuffer(GL_FRAMEBUFFER, 0);
+      gl::api.Viewport(0, 0, fbw, fbh);
+      gl::api.ClearColor(0.05f, 0.05f, 0.06f, 1.0f);
+      gl::api.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      if (pv.renderer && pv.runner) {
+        try {
+          const Snapshot& snap = pv.runner->snapshot();
+          pv.renderer->update(snap);
+          ui.ropt.viewport_x = static_cast<int>(vx * sx);
+          ui.ropt.viewport_y = 0;
+          ui.ropt.title = pv.scene->spec.name + (cmds && cmds->doc().modified() ? "  (modified)" : "");
+          pv.renderer->render(cam, static_cast<int>(vw * sx), static_cast<int>(vh * sy), ui.ropt);
+        } catch (const std::exception& e) {
+          pv.error = e.what();
+          pv.renderer.reset();
+        }
+      }
+      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      ++frame;
+      const bool ending = glfwWindowShouldClose(win) || (a.frames >= 0 && frame >= a.frames);
+      if (ending) {
+        if (!a.screenshot.empty()) write_screenshot(a.screenshot, fbw, fbh, rc);
+        glfwSetWindowShouldClose(win, GLFW_TRUE);
+      }
+      glfwSwapBuffers(win);
+    }
+  }
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(win);
+  glfwTerminate();
+  return rc;
+}
+
+}  // namespace ps::editor

@@ -1,0 +1,156 @@
+#include "app/gui/metrics_panel.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "engine/metrics/score.h"
+#include "engine/metrics/session_metrics.h"
+#include "engine/metrics/tracked_point.h"
+#include "engine/tools/needle_events.h"
+
+namespace ps::gui {
+
+namespace {
+
+struct NeedleLive {
+  std::string name;
+  TrackedPoint target;
+  bool has_target = false;
+  double peak = 0.0;               // [N]
+  int punctures = 0;
+  uint32_t hits = 0;               // structure bits
+  int entry = -1;                  // first component punctured: the route, not a hit
+};
+
+struct Live {
+  const Scene* scene = nullptr;
+  std::vector<NeedleLive> needles;
+  std::vector<Vec3> x;             // positions of the snapshot [m]
+  int64_t last_tick = -1;
+};
+
+void reset(Live& L, const Scene& sc) {
+  L = Live{};
+  L.scene = &sc;
+  for (const NeedleSpec& n : sc.spec.needles.needles) {
+    NeedleLive v;
+    v.name = n.name;
+    Vec3 aim = n.start;
+    if (n.target) aim = *n.target;
+    else if (!n.script.empty()) {
+      double d = 0.0;
+      for (const auto& q : n.script) d = std::max(d, q.depth);
+      aim = n.start + d * n.direction.normalized();
+    }
+    if (n.target || !n.script.empty()) {
+      v.target = track_point(*sc.model, aim);
+      v.has_target = true;
+    }
+    L.needles.push_back(v);
+  }
+}
+
+}  // namespace
+
+void metrics_panel(Session& s, const Snapshot& snap) {
+  static Live L;
+  const Scene& sc = s.scene();
+  if (L.scene != &sc || snap.tick < L.last_tick) reset(L, sc);  // another scene, or restarted
+  L.last_tick = snap.tick;
+  const Model& m = *sc.model;
+  if (L.needles.empty()) {
+    ImGui::TextDisabled("no needles in this scenario");
+    return;
+  }
+  // events: "<needle>: <kind> <component> at ..."
+  for (const SnapshotEvent& e : s.new_events()) {
+    if (e.tool != sc.needle_tool) continue;
+    const auto kind = static_cast<NeedleEventKind>(e.kind);
+    if (kind != NeedleEventKind::Puncture && kind != NeedleEventKind::BoneHit && kind != NeedleEventKind::Contact) continue;
+    const std::string t = e.text.data();
+    const size_t colon = t.find(": ");
+    if (colon == std::string::npos) continue;
+    for (NeedleLive& n : L.needles) {
+      if (n.name != t.substr(0, colon)) continue;
+      int comp = -1;
+      for (size_t c = 0; c < m.components.size(); ++c)
+        if (t.find(" " + m.components[c].name + " at ") != std::string::npos) comp = static_cast<int>(c);
+      if (kind == NeedleEventKind::Puncture) {
+        ++n.punctures;
+        if (n.entry < 0) n.entry = comp;
+        else if (comp >= 0) n.hits |= structure_of(m.components[static_cast<size_t>(comp)]);
+      }
+      if (kind == NeedleEventKind::BoneHit) n.hits |= structure_of(m.components[static_cast<size_t>(std::max(comp, 0))]) | 8u;
+    }
+  }
+  const size_t np = snap.x.size() / 3;
+  L.x.resize(np);
+  for (size_t i = 0; i < np; ++i) L.x[i] = Vec3(snap.x[3 * i], snap.x[3 * i + 1], snap.x[3 * i + 2]);
+  double sum = 0.0;
+  int counted = 0;
+  if (ImGui::BeginTable("live_metrics", 5, ImGuiTableFlags_RowBg)) {
+    // explicit widths: fit-to-content columns start at zero width in the first frames
+    const float cw = ImGui::CalcTextSize("0").x;
+    ImGui::TableSetupColumn("needle", ImGuiTableColumnFlags_WidthFixed, 9 * cw);
+    ImGui::TableSetupColumn("tip-target mm", ImGuiTableColumnFlags_WidthFixed, 13 * cw);
+    ImGui::TableSetupColumn("peak N", ImGuiTableColumnFlags_WidthFixed, 7 * cw);
+    ImGui::TableSetupColumn("punct.", ImGuiTableColumnFlags_WidthFixed, 6 * cw);
+    ImGui::TableSetupColumn("hit", ImGuiTableColumnFlags_WidthStretch);
+    ImGui::TableHeadersRow();
+    int k = 0;
+    for (NeedleLive& n : L.needles) {
+      const ToolReadout* r = nullptr;
+      int seen = 0;
+      for (const ToolReadout& t : snap.tools)
+        if (t.kind == ToolReadout::Needle && seen++ == k) r = &t;
+      ++k;
+      if (r) n.peak = std::max(n.peak, r->force);
+      ImGui::TableNextRow();
+      ImGui::TableSetColumnIndex(0);
+      ImGui::TextUnformatted(n.name.c_str());
+      ImGui::TableSetColumnIndex(1);
+      if (n.has_target && r && r->depth > 0.0 && np == static_cast<size_t>(m.particle_count())) {
+        const double d = 1e3 * (r->tip - n.target.position(L.x)).norm();
+        sum += d;
+        ++counted;
+        ImGui::Text("%.1f", d);
+      } else {
+        ImGui::TextDisabled("-");
+      }
+      ImGui::TableSetColumnIndex(2);
+      ImGui::Text("%.2f", n.peak);
+      ImGui::TableSetColumnIndex(3);
+      ImGui::Text("%d", n.punctures);
+      ImGui::TableSetColumnIndex(4);
+      std::string hits;
+      for (int b = 1; b <= 8; b <<= 1)
+        if (n.hits & static_cast<uint32_t>(b)) hits += std::string(hits.empty() ? "" : ", ") + structure_name(b);
+      if (hits.empty()) ImGui::TextDisabled("none");
+      else ImGui::TextColored(ImVec4(1, 0.45f, 0.4f, 1), "%s", hits.c_str());
+    }
+    ImGui::EndTable();
+  }
+  if (counted > 0) {
+    const double mean = sum / counted;
+    ImGui::Text("mean tip-target %.1f mm", mean);
+    // the scale of Han et al. 2012: robot 1.0 mm, freehand urologists 9.0 mm
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    const ImVec2 p0 = ImGui::GetCursorScreenPos();
+    const float w = ImGui::GetContentRegionAvail().x - 10, y = p0.y + 14;
+    auto X = [&](double mm) { return p0.x + 5 + w * static_cast<float>(std::clamp(mm / 12.0, 0.0, 1.0)); };
+    dl->AddLine(ImVec2(X(0), y), ImVec2(X(12), y), IM_COL32(150, 150, 150, 255), 2.0f);
+    dl->AddCircleFilled(ImVec2(X(1.0), y), 5, IM_COL32(60, 170, 80, 255));
+    dl->AddText(ImVec2(X(1.0) - 12, y - 18), IM_COL32(60, 170, 80, 255), "robot 1");
+    dl->AddCircleFilled(ImVec2(X(9.0), y), 5, IM_COL32(220, 60, 60, 255));
+    dl->AddText(ImVec2(X(9.0) - 30, y - 18), IM_COL32(220, 60, 60, 255), "freehand 9");
+    dl->AddTriangleFilled(ImVec2(X(mean), y + 4), ImVec2(X(mean) - 6, y + 14), ImVec2(X(mean) + 6, y + 14), IM_COL32(90, 140, 255, 255));
+    ImGui::Dummy(ImVec2(w, 34));
+    ImGui::TextDisabled("Han et al., J Urol 2012 (mm)");
+  }
+}
+
+}  // namespace ps::gui
