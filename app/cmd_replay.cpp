@@ -5,12 +5,19 @@
 // run that recorded it, at any speed, with frames or without. A recording made on another
 // scenario file, another program version or a malformed one exits 2 naming file:line.
 // `--script F` replays a script instead of a recording (same lock-step path).
+// The recording's periodic state hashes (`h` lines) are checked as the replay passes them; the
+// first that differs is named (file:line, tick) and the exit code is 3. A simulation fault stops
+// the replay, not the program: it is printed with tick, time and particle, --save-on-fault FILE
+// writes the last good state, exit 3.
 // `--report DIR [--trainee T] [--session S]`: the session report at the end (metrics.json with
 // its score, report.png, force-depth and event CSVs; app/session_capture.h), fed after every
 // tick, outside the step.
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
+
+#include "engine/sim/watchdog.h"
 
 #include "app/commands.h"
 #include "app/run_session.h"
@@ -23,9 +30,9 @@ namespace {
 ReplayFrames g_frames;
 
 struct ReplayArgs {
-  std::string scenario, recording, script;
+  std::string scenario, recording, script, save_on_fault, inject;
   std::string report, trainee, session;
-  bool hash_only = false;
+  bool hash_only = false, no_watchdog = false;
   double duration = -1.0;
 };
 
@@ -39,9 +46,9 @@ int replay(const ReplayArgs& a) {
     rec = parse_recording_file(a.recording);
     check_recording_matches(rec, RecordingHeader{scene.spec.name, scene.content_hash, m.dt, m.substeps});
     cmds = rec.commands;
-    if (rec.complete) end_tick = rec.end_tick;
-    else {
-      end_tick = cmds.empty() ? 0 : cmds.back().tick + 1;
+    if (rec.complete) end_tick = rec.fault_tick >= 0 ? rec.fault_tick + 1 : rec.end_tick;  // a faulted run: to its fault
+    else {  // cut short (a crash): to its last command or hash
+      end_tick = std::max(cmds.empty() ? int64_t{0} : cmds.back().tick + 1, rec.hashes.empty() ? int64_t{0} : rec.hashes.back().tick);
       spdlog::warn("warning: {} has no end line (the run did not finish): replaying to its last command, tick {}", a.recording, end_tick);
     }
   } else {
@@ -51,6 +58,7 @@ int replay(const ReplayArgs& a) {
     end_tick = static_cast<int64_t>(std::llround(d / m.dt));
   }
   if (a.duration > 0) end_tick = static_cast<int64_t>(std::llround(a.duration / m.dt));
+  const FaultInjection inject = parse_fault_injection(a.inject);
   std::unique_ptr<SessionCapture> capture;
   if (!a.report.empty()) {
     capture = SessionCapture::make(scene);
@@ -61,6 +69,12 @@ int replay(const ReplayArgs& a) {
   LockstepRunner runner(*scene.sim);
   runner.add_source(&player);
   if (capture) runner.add_source(capture.get());
+  HashVerifier verifier(rec);
+  if (!a.recording.empty() && rec.header.hash_every > 0) runner.runner().set_hash_observer(&verifier, rec.header.hash_every);
+  const Watchdog watchdog(m);
+  if (!a.no_watchdog) runner.runner().set_watchdog(&watchdog);
+  runner.runner().keep_last_good(true);
+  if (inject.tick >= 0) runner.runner().inject_fault(inject.tick, 0, inject.internal);
   int rc = kExitOk;
   if (g_frames.run && g_frames.wanted && g_frames.wanted()) {
     ReplaySession session{scene, runner, end_tick, a.scenario};
@@ -78,8 +92,18 @@ int replay(const ReplayArgs& a) {
                 static_cast<long long>(runner.applier().refused()));
     std::printf("state hash %s\n", hex16(h).c_str());
   }
-  if (rec.complete && runner.tick() == rec.end_tick && h != rec.end_hash) {
-    spdlog::error("error: replay diverged: state hash {} at tick {}, the live run recorded {}", hex16(h), runner.tick(), hex16(rec.end_hash));
+  if (verifier.diverged()) {
+    spdlog::error("error: replay diverged: {}", verifier.describe());
+    return kExitFault;
+  }
+  if (rec.fault_tick >= 0 && !runner.faulted() && runner.tick() > rec.fault_tick) {
+    spdlog::error("error: replay diverged: {}: the live run faulted at tick {}, the replay ran it without a fault", a.recording,
+                  rec.fault_tick);
+    return kExitFault;
+  }
+  if (rec.complete && rec.fault_tick < 0 && !runner.faulted() && runner.tick() == rec.end_tick && h != rec.end_hash) {
+    spdlog::error("error: replay diverged: {}:{}: state hash {} at tick {}, the live run recorded {}", a.recording, rec.end_line, hex16(h),
+                  runner.tick(), hex16(rec.end_hash));
     return kExitFault;
   }
   if (capture) {
@@ -87,9 +111,14 @@ int replay(const ReplayArgs& a) {
     if (!a.hash_only) std::printf("score %.1f / 100; wrote %s/{metrics.json,report.png,force_depth_<needle>.csv,...}\n", sc.value, a.report.c_str());
   }
   if (runner.faulted()) {
-    spdlog::error("error: simulation stopped: {}", scene.sim->state().fault.describe(m));
+    spdlog::error("error: simulation fault, the replay stopped at {}", runner.runner().fault_text());
+    if (rec.fault_tick == runner.tick()) spdlog::error("(the live run faulted at the same tick: the fault replays)");
+    else if (rec.fault_tick >= 0) spdlog::error("(the live run faulted at tick {})", rec.fault_tick);
+    SavedState st;
+    if (!a.save_on_fault.empty() && runner.runner().last_good(st)) save_fault_state(a.save_on_fault, st, scene);
     return kExitFault;
   }
+  if (!a.hash_only && verifier.checked() > 0) std::printf("%d recorded state hashes checked: all equal\n", verifier.checked());
   return rc;
 }
 }  // namespace
@@ -107,6 +136,9 @@ void add_replay_command(CLI::App& app, Runner& run) {
   sub->add_flag("--hash", a->hash_only, "print only the final state hash (16 hex digits)");
   sub->add_option("--duration", a->duration, "stop after this simulated time [s] (default: where the recording ends)")
       ->check(CLI::PositiveNumber);
+  sub->add_option("--save-on-fault", a->save_on_fault, "when the physics faults, write the last good state to FILE (atomically)");
+  sub->add_flag("--no-watchdog", a->no_watchdog, "do not check energy growth, volume drift and particles leaving the scene each tick");
+  sub->add_option("--inject-fault", a->inject, "")->group("");  // test hook: nan@TICK or throw@TICK
   sub->add_option("--report", a->report, "session report folder: metrics.json (score), report.png, force-depth CSVs");
   sub->add_option("--trainee", a->trainee, "trainee name recorded in metrics.json");
   sub->add_option("--session", a->session, "session name in metrics.json (default: the report folder's name)");

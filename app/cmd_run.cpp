@@ -8,16 +8,26 @@
 // --report DIR: the session report at the end (metrics.json with its score, report.png, the
 // force-depth and event CSVs; app/session_capture.h), fed after every tick outside the step.
 // Bad input (scenario, script, options) exits 2 before anything is written.
+// Recovery (issue 14): a simulation fault (NaN, blow-up, a watchdog finding) stops the physics,
+// never the program: the fault is printed with its tick, time and particle, the recording is
+// still finished (the session is kept), the last good state is written atomically with
+// --save-on-fault FILE, and the exit code is 3. The window shows the fault and offers to save
+// the last good state and to restart. An exception on the physics thread (a bug) is caught there
+// and reported as an internal error (exit 4), after the recording is finished.
 #include <spdlog/spdlog.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <memory>
+#include <stdexcept>
 
 #include "app/commands.h"
 #include "app/run_session.h"
 #include "app/session_capture.h"
+#include "engine/realtime/state_file.h"
+#include "engine/sim/watchdog.h"
 #include "engine/util/error.h"
+#include "haptics/probe_source.h"
 #include "haptics/spacemouse.h"
 
 namespace ps::app {
@@ -26,9 +36,9 @@ namespace {
 WindowFrontend g_window = nullptr;
 
 struct RunArgs {
-  std::string scenario, script, record, device = "auto";
+  std::string scenario, script, record, device = "auto", probe_device = "none", save_on_fault, inject;
   std::string report, trainee, session;
-  bool headless = false, hash_only = false, unpaced = false;
+  bool headless = false, hash_only = false, unpaced = false, no_watchdog = false;
   double duration = -1.0, factor = 1.0;
 };
 
@@ -40,6 +50,30 @@ bool have_display() {
 }  // namespace
 
 void register_window_frontend(WindowFrontend f) { g_window = f; }
+
+FaultInjection parse_fault_injection(const std::string& spec) {
+  FaultInjection f;
+  if (spec.empty()) return f;
+  const auto at = spec.find('@');
+  const std::string kind = spec.substr(0, at);
+  if (at == std::string::npos || (kind != "nan" && kind != "throw"))
+    throw InputError("", 0, "--inject-fault", "expected nan@TICK or throw@TICK, got '" + spec + "'");
+  try {
+    f.tick = std::stoll(spec.substr(at + 1));
+  } catch (const std::exception&) {
+    throw InputError("", 0, "--inject-fault", "expected nan@TICK or throw@TICK, got '" + spec + "'");
+  }
+  f.internal = kind == "throw";
+  return f;
+}
+
+void save_fault_state(const std::string& path, SavedState st, const Scene& scene) {
+  st.scenario = scene.spec.name;
+  st.scenario_hash = scene.content_hash;
+  write_state_file(path, st);
+  std::fprintf(stderr, "last good state (tick %lld, t=%.4f s, state hash %s) saved to %s\n", static_cast<long long>(st.tick), st.time,
+               hex16(st.state_hash).c_str(), path.c_str());
+}
 WindowFrontend window_frontend() { return g_window; }
 
 int run_live(const RunArgs& a) {
@@ -63,6 +97,7 @@ int run_live(const RunArgs& a) {
     prepare_report_dir(a.report, "--report");
   }
   std::unique_ptr<RecordingWriter> rec;
+  const FaultInjection inject = parse_fault_injection(a.inject);
   if (!a.record.empty()) rec = std::make_unique<RecordingWriter>(a.record, RecordingHeader{scene.spec.name, scene.content_hash, m.dt, m.substeps});
 
   // the device that drives the active needle: a script, the SpaceMouse (when spacenavd runs), or
@@ -77,9 +112,26 @@ int run_live(const RunArgs& a) {
     else if (a.device == "spacemouse") spdlog::warn("{}", why);
   }
   if (spacemouse) device = std::make_unique<haptics::DeviceSource>(scene, *spacemouse);
-  else if (windowed && !player && a.device != "none") {
+  else if (windowed && !player && a.device != "none" && a.probe_device != "mouse") {
     mouse = std::make_unique<haptics::MouseKeyboardDevice>();
     device = std::make_unique<haptics::DeviceSource>(scene, *mouse);
+  }
+  // the probe from a device (--probe-device): the SpaceMouse's six axes, or the mouse+keyboard
+  // bindings of haptics/probe_source.h; a missing SpaceMouse is said and the probe stays put
+  std::unique_ptr<haptics::SpaceMouseDevice> probe_spacemouse;
+  std::unique_ptr<haptics::ProbeSource> probe_device;
+  if (a.probe_device != "none" && scene.probe_tool < 0) spdlog::warn("--probe-device {}: the scene has no probe", a.probe_device);
+  else if (a.probe_device == "spacemouse" && !spacemouse) {
+    auto sm = std::make_unique<haptics::SpaceMouseDevice>();
+    std::string why;
+    if (sm->open(why)) probe_spacemouse = std::move(sm);
+    else spdlog::warn("{}", why);
+    if (probe_spacemouse) probe_device = std::make_unique<haptics::ProbeSource>(scene, *probe_spacemouse);
+  } else if (a.probe_device == "spacemouse" && spacemouse) {
+    spdlog::warn("--probe-device spacemouse: the SpaceMouse already drives the needle (--device); the probe stays put");
+  } else if (a.probe_device == "mouse") {
+    if (!mouse) mouse = std::make_unique<haptics::MouseKeyboardDevice>();
+    probe_device = std::make_unique<haptics::ProbeSource>(scene, *mouse);
   }
 
   LoopOptions opt;
@@ -90,8 +142,16 @@ int run_live(const RunArgs& a) {
   PhysicsLoop loop(*scene.sim, opt);
   if (player) loop.add_source(player.get());
   if (device) loop.add_source(device.get());
+  if (probe_device) loop.add_source(probe_device.get());
   if (capture) loop.add_source(capture.get());
-  if (rec) loop.applier().set_observer(rec.get());
+  if (rec) {
+    loop.applier().set_observer(rec.get());
+    loop.set_hash_observer(rec.get(), rec->hash_every());
+  }
+  const Watchdog watchdog(m);
+  if (!a.no_watchdog) loop.set_watchdog(&watchdog);
+  loop.keep_last_good(true);
+  if (inject.tick >= 0) loop.inject_fault(inject.tick, 0, inject.internal);
   if (!a.hash_only)
     std::printf("%s: %d particles, tick %.3g ms x %d substeps, %s%s\n", scene.spec.name.c_str(), m.particle_count(), m.dt * 1e3,
                 m.substeps, windowed ? "window" : "headless", end_tick >= 0 ? (", " + std::to_string(end_tick) + " ticks").c_str() : "");
@@ -108,7 +168,7 @@ int run_live(const RunArgs& a) {
   const int64_t ticks = loop.tick();
   const uint64_t h = scene.sim->hash();
   if (rec) {
-    rec->finish(ticks, h);
+    rec->finish(ticks, h, loop.faulted() ? ticks : -1);  // a fault: the tick it happened in
     if (rec->dropped() > 0) {
       spdlog::error("error: {} commands could not be recorded (writer ring full): {} is incomplete", rec->dropped(), a.record);
       rc = kExitFault;
@@ -128,12 +188,16 @@ int run_live(const RunArgs& a) {
     if (rec) std::printf("recorded %s\n", a.record.c_str());
     std::printf("state hash %s\n", hex16(h).c_str());
   }
+  if (loop.internal_error()) throw std::logic_error(loop.fault_text());  // main: exit 4, asks for a report
   if (capture) {
     const Score sc = capture->write(a.report, loop.faulted(), a.trainee, a.session);
     if (!a.hash_only) std::printf("score %.1f / 100; wrote %s/{metrics.json,report.png,force_depth_<needle>.csv,...}\n", sc.value, a.report.c_str());
   }
   if (loop.faulted()) {
-    spdlog::error("error: simulation stopped: {}", scene.sim->state().fault.describe(m));
+    spdlog::error("error: simulation fault, the physics stopped at {}", loop.fault_text());
+    SavedState st;
+    if (!a.save_on_fault.empty() && loop.last_good_state(st)) save_fault_state(a.save_on_fault, st, scene);
+    else if (a.save_on_fault.empty()) spdlog::error("(--save-on-fault FILE keeps the last good state)");
     return kExitFault;
   }
   return rc;
@@ -156,6 +220,13 @@ void add_run_command(CLI::App& app, Runner& run) {
       ->check(CLI::PositiveNumber);
   sub->add_flag("--unpaced", a->unpaced, "do not keep real time: tick as fast as possible");
   sub->add_flag("--hash", a->hash_only, "print only the final state hash (16 hex digits)");
+  sub->add_option("--probe-device", a->probe_device, "what moves the probe live: none, spacemouse (six axes), mouse (keyboard bindings)")
+      ->check(CLI::IsMember({"none", "spacemouse", "mouse"}))
+      ->capture_default_str();
+  sub->add_option("--save-on-fault", a->save_on_fault, "when the physics faults, write the last good state to FILE (atomically)");
+  sub->add_flag("--no-watchdog", a->no_watchdog, "do not check energy growth, volume drift and particles leaving the scene each tick");
+  // test hook: a NaN injected into particle 0 before tick N (nan@N) or an exception (throw@N)
+  sub->add_option("--inject-fault", a->inject, "")->group("");
   sub->add_option("--report", a->report, "session report folder: metrics.json (score), report.png, force-depth CSVs");
   sub->add_option("--trainee", a->trainee, "trainee name recorded in metrics.json");
   sub->add_option("--session", a->session, "session name in metrics.json (default: the report folder's name)");

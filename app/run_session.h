@@ -14,6 +14,7 @@
 #include "engine/realtime/physics_loop.h"
 #include "engine/realtime/recording.h"
 #include "engine/realtime/script.h"
+#include "engine/realtime/state_file.h"
 #include "engine/sim/scene.h"
 #include "haptics/device_source.h"
 #include "haptics/mouse_keyboard.h"
@@ -54,5 +55,17 @@ struct ReplayFrames {
 };
 void register_replay_frames(ReplayFrames f);
 const ReplayFrames& replay_frames();
+
+// Recovery helpers shared by run, replay and the window (app/cmd_run.cpp).
+// Test hook --inject-fault: "nan@TICK" (a NaN put into particle 0 before that tick: a simulation
+// fault) or "throw@TICK" (an exception in the loop: an internal error). InputError otherwise.
+struct FaultInjection {
+  int64_t tick = -1;
+  bool internal = false;
+};
+FaultInjection parse_fault_injection(const std::string& spec);
+// Writes the last good state (engine/realtime/state_file.h) with the scene's name and content
+// hash, atomically, and says so on stderr.
+void save_fault_state(const std::string& path, SavedState st, const Scene& scene);
 
 }  // namespace ps::app

@@ -25,8 +25,12 @@ bool MouseKeyboardDevice::poll(double time, DeviceState& out) {
   const uint32_t h = held_.load();
   if (h & (1u << W)) key_z_ += key_speed_ * dt;
   if (h & (1u << S)) key_z_ -= key_speed_ * dt;
+  if (h & (1u << Up)) key_rx_ += key_rate_ * dt;
+  if (h & (1u << Down)) key_rx_ -= key_rate_ * dt;
+  if (h & (1u << Right)) key_ry_ += key_rate_ * dt;
+  if (h & (1u << Left)) key_ry_ -= key_rate_ * dt;
   out.position = Vec3(0, 0, drag_m_.load() + key_z_);
-  out.rotation = Vec3(0, 0, roll_.load());
+  out.rotation = Vec3(key_rx_, key_ry_, roll_.load());
   out.buttons = buttons_.load();
   out.connected = connected_.load();
   return out.connected;

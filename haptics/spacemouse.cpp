@@ -34,8 +34,8 @@ bool SpaceMouseDevice::poll(double time, DeviceState& out) {
   int n;
   while ((n = spnav_poll_event(&ev)) > 0) {
     if (ev.type == SPNAV_EVENT_MOTION) {
-      axis_z_ = std::clamp(ev.motion.z / kFullScale, -1.0, 1.0);
-      axis_rz_ = std::clamp(ev.motion.rz / kFullScale, -1.0, 1.0);
+      const int raw[6] = {ev.motion.x, ev.motion.y, ev.motion.z, ev.motion.rx, ev.motion.ry, ev.motion.rz};
+      for (int i = 0; i < 6; ++i) axis_[i] = std::clamp(raw[i] / kFullScale, -1.0, 1.0);
     } else if (ev.type == SPNAV_EVENT_BUTTON) {
       const uint32_t bit = ev.button.bnum == 0 ? kButtonFire : ev.button.bnum == 1 ? kButtonSeed : kButtonNext;
       if (ev.button.press) state_.buttons |= bit;
@@ -50,8 +50,10 @@ bool SpaceMouseDevice::poll(double time, DeviceState& out) {
   }
   const double dt = last_time_ < 0 ? 0.0 : time - last_time_;
   last_time_ = time;
-  state_.position.z() += speed_ * axis_z_ * dt;
-  state_.rotation.z() += 1.0 * axis_rz_ * dt;  // [rad/s] at full twist
+  for (int i = 0; i < 3; ++i) {
+    state_.position[i] += speed_ * axis_[i] * dt;
+    state_.rotation[i] += angular_speed_ * axis_[3 + i] * dt;
+  }
   state_.connected = true;
   out = state_;
   return true;

@@ -29,7 +29,11 @@ Session::Session(const std::string& scenario, double factor, const std::string& 
     const Model& m = *scene_->model;
     recorder_ = std::make_unique<RecordingWriter>(record_to, RecordingHeader{scene_->spec.name, scene_->content_hash, m.dt, m.substeps});
     loop_->applier().set_observer(recorder_.get());
+    loop_->set_hash_observer(recorder_.get(), recorder_->hash_every());
   }
+  watchdog_ = std::make_unique<Watchdog>(*scene_->model);  // recovery as in cmd_run
+  loop_->set_watchdog(watchdog_.get());
+  loop_->keep_last_good(true);
   loop_->start();
 }
 

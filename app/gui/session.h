@@ -8,6 +8,7 @@
 #include <string>
 
 #include "app/run_session.h"
+#include "engine/sim/watchdog.h"
 #include "render/renderer.h"
 
 namespace ps::gui {
@@ -58,6 +59,7 @@ class Session {
   std::string file_;
   std::unique_ptr<Scene> own_scene_;
   std::unique_ptr<RecordingWriter> recorder_;
+  std::unique_ptr<Watchdog> watchdog_;
   std::unique_ptr<PhysicsLoop> own_loop_;
   Scene* scene_ = nullptr;
   PhysicsLoop* loop_ = nullptr;

@@ -318,7 +318,8 @@ int run_window(app::RunSession& run) {
           using K = haptics::MouseKeyboardDevice;
           const std::pair<int, K::Key> keys[] = {{GLFW_KEY_W, K::W}, {GLFW_KEY_S, K::S}, {GLFW_KEY_Q, K::Q}, {GLFW_KEY_E, K::E},
                                                  {GLFW_KEY_SPACE, K::Space}, {GLFW_KEY_D, K::D}, {GLFW_KEY_TAB, K::Tab},
-                                                 {GLFW_KEY_LEFT_SHIFT, K::Shift}};
+                                                 {GLFW_KEY_LEFT_SHIFT, K::Shift}, {GLFW_KEY_UP, K::Up}, {GLFW_KEY_DOWN, K::Down},
+                                                 {GLFW_KEY_LEFT, K::Left}, {GLFW_KEY_RIGHT, K::Right}};
           for (auto [g, k] : keys) {
             if (ImGui::IsKeyPressed(g, false)) m->key(k, true);
             if (ImGui::IsKeyReleased(g)) m->key(k, false);
@@ -428,7 +429,21 @@ int run_window(app::RunSession& run) {
         ImGui::Text("tick rate %.0f Hz   real-time factor %.2f%s", t.achieved_hz, t.realtime_factor, t.slow_motion ? " (slow motion)" : "");
         ImGui::Text("tick compute p50 %.2f ms  p99 %.2f ms", t.tick_p50_ms, t.tick_p99_ms);
         ImGui::Text("frame %.1f ms (%.0f fps)", ui.frame_ms, ui.frame_ms > 0 ? 1000.0 / ui.frame_ms : 0.0);
-        if (snap.faulted) ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "FAULT: %s", snap.fault.data());
+        if (snap.faulted) {  // recovery (issue 14): the physics stopped; save the last good state, restart
+          ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "FAULT: %s", snap.fault.data());
+          SavedState st;
+          if (ImGui::Button("Save last good state") && s.loop().last_good_state(st)) {
+            const std::string path = s.name() + "-tick" + std::to_string(st.tick) + ".state";
+            try {
+              app::save_fault_state(path, st, s.scene());
+              push_log(ui, "last good state saved to " + path);
+            } catch (const std::exception& e) {
+              push_log(ui, std::string("save failed: ") + e.what());
+            }
+          }
+          ImGui::SameLine();
+          if (ImGui::Button("Restart scene")) { s.restart(); reset_view(ui, s); push_log(ui, "restarted after a fault"); }
+        }
       }
       if (ImGui::CollapsingHeader("Events", ImGuiTreeNodeFlags_DefaultOpen)) {
         ImGui::BeginChild("log", ImVec2(0, 0), true);

@@ -76,6 +76,18 @@ void PhysicsLoop::wait_for_tick(int64_t t) const {
   while (tick() < t && !faulted() && running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
 }
 
+std::string PhysicsLoop::fault_text() const {
+  std::lock_guard<std::mutex> g(fault_mu_);
+  return fault_text_;
+}
+
+bool PhysicsLoop::last_good_state(SavedState& out) const {
+  std::lock_guard<std::mutex> g(fault_mu_);
+  if (!have_fault_state_) return false;
+  out = fault_state_;
+  return true;
+}
+
 LoopTiming PhysicsLoop::timing() const {
   std::lock_guard<std::mutex> g(timing_mu_);
   return timing_;
@@ -132,6 +144,23 @@ void PhysicsLoop::update_window(double now, bool force) {
 }
 
 void PhysicsLoop::thread_main() {
+  try {
+    thread_loop();
+  } catch (const std::exception& e) {
+    std::lock_guard<std::mutex> g(fault_mu_);
+    fault_text_ = std::string("internal error on the physics thread at tick ") + std::to_string(runner_.tick()) + ": " + e.what();
+    have_fault_state_ = runner_.last_good(fault_state_);
+    internal_.store(true, std::memory_order_release);
+    faulted_.store(true, std::memory_order_release);
+  } catch (...) {
+    std::lock_guard<std::mutex> g(fault_mu_);
+    fault_text_ = "internal error on the physics thread at tick " + std::to_string(runner_.tick()) + ": unknown exception";
+    internal_.store(true, std::memory_order_release);
+    faulted_.store(true, std::memory_order_release);
+  }
+}
+
+void PhysicsLoop::thread_loop() {
   const double dt = runner_.sim().model().dt;
   double anchor_wall = wall_s();
   int64_t anchor_tick = runner_.tick();
@@ -143,6 +172,11 @@ void PhysicsLoop::thread_main() {
   while (!stop_.load(std::memory_order_acquire)) {
     if (reset_requested_.exchange(false, std::memory_order_acq_rel)) {
       runner_.reset();
+      {
+        std::lock_guard<std::mutex> g(fault_mu_);
+        fault_text_.clear();
+        have_fault_state_ = false;
+      }
       tick_.store(0, std::memory_order_release);
       faulted_.store(false, std::memory_order_release);
       skipped_unread_ = false;
@@ -178,7 +212,12 @@ void PhysicsLoop::thread_main() {
     if (window_n_ < kWindow) tick_ms_[window_n_++] = static_cast<float>((done - start) * 1e3);
     if (done - start > period) ++overruns_;
     tick_.store(runner_.tick(), std::memory_order_release);
-    if (!ok) faulted_.store(true, std::memory_order_release);
+    if (!ok) {  // the fault path may allocate: the physics stops here
+      std::lock_guard<std::mutex> g(fault_mu_);
+      fault_text_ = runner_.fault_text();
+      have_fault_state_ = runner_.last_good(fault_state_);
+      faulted_.store(true, std::memory_order_release);
+    }
     publish();
     update_window(wall_s(), false);
     if (opt_.as_fast_as_possible || paused()) continue;

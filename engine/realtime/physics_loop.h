@@ -20,6 +20,7 @@
 #include <atomic>
 #include <cstdint>
 #include <mutex>
+#include <string>
 #include <thread>
 
 #include "engine/realtime/snapshot.h"
@@ -66,9 +67,14 @@ class PhysicsLoop {
   PhysicsLoop(const PhysicsLoop&) = delete;
   PhysicsLoop& operator=(const PhysicsLoop&) = delete;
 
-  // Before start(): devices, scripts, the recorder (CommandApplier::set_observer via applier()).
+  // Before start(): devices, scripts, the recorder (CommandApplier::set_observer via applier(),
+  // set_hash_observer), recovery (set_watchdog, keep_last_good; TickRunner has the details).
   void add_source(CommandSource* s) { runner_.add_source(s); }
   CommandApplier& applier() { return runner_.applier(); }
+  void set_watchdog(const Watchdog* w) { runner_.set_watchdog(w); }
+  void keep_last_good(bool on) { runner_.keep_last_good(on); }
+  void set_hash_observer(HashObserver* o, int every) { runner_.set_hash_observer(o, every); }
+  void inject_fault(int64_t tick, int particle = 0, bool internal = false) { runner_.inject_fault(tick, particle, internal); }  // tests
 
   void start();
   void stop();                     // joins the physics thread (idempotent)
@@ -94,6 +100,15 @@ class PhysicsLoop {
 
   int64_t tick() const { return tick_.load(std::memory_order_acquire); }   // ticks completed
   bool faulted() const { return faulted_.load(std::memory_order_acquire); }
+  // After a fault (any thread): what stopped the physics (tick, time, kind, particle), and the
+  // last good state (false when keep_last_good is off or nothing faulted). Copied by the physics
+  // thread when it faults, so reading them never races with it; reset() clears them.
+  std::string fault_text() const;
+  bool last_good_state(SavedState& out) const;
+  // An exception escaped a tick on the physics thread (a bug: a broken invariant, out of memory):
+  // the thread catches it instead of terminating the program, stops the physics (faulted()), and
+  // this says what (empty when none). The owner treats it as an internal error (exit 4).
+  bool internal_error() const { return internal_.load(std::memory_order_acquire); }
   // Blocks the caller (not the physics) until the loop reached `tick`, faulted or stopped.
   void wait_for_tick(int64_t tick) const;
   LoopTiming timing() const;       // copy of the last window's figures
@@ -103,6 +118,7 @@ class PhysicsLoop {
 
  private:
   void thread_main();
+  void thread_loop();
   void publish();
   void update_window(double wall_now, bool force);
 
@@ -110,7 +126,7 @@ class PhysicsLoop {
   TickRunner runner_;
   TripleBuffer<Snapshot> snaps_;
   std::thread thread_;
-  std::atomic<bool> running_{false}, stop_{false}, paused_{false}, reset_requested_{false}, faulted_{false};
+  std::atomic<bool> running_{false}, stop_{false}, paused_{false}, reset_requested_{false}, faulted_{false}, internal_{false};
   std::atomic<int> step_requests_{0};
   std::atomic<double> factor_{1.0};
   std::atomic<int64_t> tick_{0};
@@ -131,6 +147,10 @@ class PhysicsLoop {
   bool skipped_unread_ = false;    // the back buffer holds a snapshot the reader never took
   mutable std::mutex timing_mu_;   // the physics thread only try_locks it
   LoopTiming timing_;
+  mutable std::mutex fault_mu_;    // guards the two below (the physics thread locks it only on a fault or reset)
+  std::string fault_text_;
+  SavedState fault_state_;
+  bool have_fault_state_ = false;
 };
 
 }  // namespace ps

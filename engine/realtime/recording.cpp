@@ -1,5 +1,6 @@
 #include "engine/realtime/recording.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cinttypes>
 #include <cmath>
@@ -65,7 +66,9 @@ Recording parse_recording_text(const std::string& text, const std::string& file)
   std::string line;
   int ln = 0;
   bool have[6] = {false, false, false, false, false, false};
-  int64_t last_tick = 0;
+  int64_t last_tick = 0, last_hash_tick = 0;
+  int version = 0;
+  r.header.hash_every = 0;
   while (std::getline(is, line)) {
     ++ln;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -74,8 +77,9 @@ Recording parse_recording_text(const std::string& text, const std::string& file)
     if (ln == 1 || !have[0]) {
       if (w.size() != 2 || w[0] != "prostatesim-recording")
         throw InputError(file, ln, "", "not a ProstateSim recording (first line must be 'prostatesim-recording 1')");
-      if (to_int(w[1], file, ln, "version") != kRecordingVersion)
-        throw InputError(file, ln, "version", "recording format version " + w[1] + ", this program reads version " +
+      version = static_cast<int>(to_int(w[1], file, ln, "version"));
+      if (version < 1 || version > kRecordingVersion)
+        throw InputError(file, ln, "version", "recording format version " + w[1] + ", this program reads versions 1 to " +
                                                   std::to_string(kRecordingVersion));
       have[0] = true;
       continue;
@@ -109,6 +113,23 @@ Recording parse_recording_text(const std::string& text, const std::string& file)
       need(2);
       r.header.substeps = static_cast<int>(to_int(w[1], file, ln, "substeps"));
       have[5] = true;
+    } else if (k == "hash_every" && version >= 2) {
+      need(2);
+      const int64_t n = to_int(w[1], file, ln, "hash_every");
+      if (n < 0 || n > 1000000000) throw InputError(file, ln, "hash_every", "out of range 0..1e9");
+      r.header.hash_every = static_cast<int>(n);
+    } else if (k == "h" && version >= 2) {
+      need(3);
+      RecordedHash h;
+      h.tick = to_int(w[1], file, ln, "h");
+      if (h.tick <= last_hash_tick)
+        throw InputError(file, ln, "h", "hash ticks must increase (" + w[1] + " after " + std::to_string(last_hash_tick) + ")");
+      if (r.header.hash_every <= 0 || h.tick % r.header.hash_every != 0)
+        throw InputError(file, ln, "h", "hash at tick " + w[1] + " is not a multiple of hash_every " + std::to_string(r.header.hash_every));
+      last_hash_tick = h.tick;
+      h.hash = to_hex(w[2], file, ln, "h");
+      h.line = ln;
+      r.hashes.push_back(h);
     } else if (k == "c") {
       for (int i = 1; i < 6; ++i)
         if (!have[i]) throw InputError(file, ln, "", "command before the header is complete (program, scenario, scenario_hash, dt, substeps)");
@@ -131,11 +152,16 @@ Recording parse_recording_text(const std::string& text, const std::string& file)
                      &c.value, &c.pos[0], &c.pos[1], &c.pos[2], &c.dir[0], &c.dir[1], &c.dir[2]};
       for (int i = 0; i < 15; ++i) *d[i] = to_double(w[8 + i], file, ln, "value");
       r.commands.push_back(c);
+    } else if (k == "fault" && version >= 2) {
+      need(2);
+      r.fault_tick = to_int(w[1], file, ln, "fault");
+      if (r.fault_tick < last_tick) throw InputError(file, ln, "fault", "fault before the last command");
     } else if (k == "end") {
       need(3);
       r.end_tick = to_int(w[1], file, ln, "end");
-      if (r.end_tick < last_tick) throw InputError(file, ln, "end", "ends before its last command");
+      if (r.end_tick < last_tick || r.end_tick < last_hash_tick) throw InputError(file, ln, "end", "ends before its last command or hash");
       r.end_hash = to_hex(w[2], file, ln, "end");
+      r.end_line = ln;
       r.complete = true;
     } else {
       throw InputError(file, ln, k, "unknown record '" + k + "' (expected c, end or a header line)");
@@ -155,6 +181,25 @@ Recording parse_recording_file(const std::string& path) {
   return parse_recording_text(ss.str(), path);
 }
 
+void HashVerifier::state_hash(int64_t ticks, uint64_t hash) {
+  while (next_ < rec_.hashes.size() && rec_.hashes[next_].tick < ticks) ++next_;
+  if (next_ >= rec_.hashes.size() || rec_.hashes[next_].tick != ticks) return;
+  ++checked_;
+  if (first_bad_ < 0 && hash != rec_.hashes[next_].hash) {
+    first_bad_ = static_cast<int>(next_);
+    got_ = hash;
+  }
+  ++next_;
+}
+
+std::string HashVerifier::describe() const {
+  if (first_bad_ < 0) return "";
+  const RecordedHash& h = rec_.hashes[first_bad_];
+  return rec_.file + ":" + std::to_string(h.line) + ": tick " + std::to_string(h.tick) + ": the replay's state hash is " + hex16(got_) +
+         ", the recording has " + hex16(h.hash) + " (the replay diverged between tick " +
+         std::to_string(first_bad_ > 0 ? rec_.hashes[first_bad_ - 1].tick : 0) + " and this one)";
+}
+
 void check_recording_matches(const Recording& r, const RecordingHeader& scene) {
   if (r.header.scenario_hash != scene.scenario_hash || r.header.scenario != scene.scenario)
     throw InputError(r.file, r.header_line_hash, "scenario_hash",
@@ -164,13 +209,13 @@ void check_recording_matches(const Recording& r, const RecordingHeader& scene) {
     throw InputError(r.file, r.header_line_hash, "dt", "recorded with another tick or substep count");
 }
 
-RecordingWriter::RecordingWriter(const std::string& path, const RecordingHeader& h) : path_(path) {
+RecordingWriter::RecordingWriter(const std::string& path, const RecordingHeader& h) : path_(path), hash_every_(std::max(0, h.hash_every)) {
   // written as FILE.part while the run goes on (flushed, so a crash leaves a readable .part that
   // loses at most the last second), renamed to FILE when the run ends
   f_ = std::fopen((path + ".part").c_str(), "w");
   if (!f_) throw InputError(path, 0, "--record", "cannot create the recording file");
-  std::fprintf(f_, "prostatesim-recording %d\nprogram %s\nscenario %s\nscenario_hash %s\ndt %.17g\nsubsteps %d\n", kRecordingVersion,
-               kProgramVersion, h.scenario.c_str(), hex16(h.scenario_hash).c_str(), h.dt, h.substeps);
+  std::fprintf(f_, "prostatesim-recording %d\nprogram %s\nscenario %s\nscenario_hash %s\ndt %.17g\nsubsteps %d\nhash_every %d\n",
+               kRecordingVersion, kProgramVersion, h.scenario.c_str(), hex16(h.scenario_hash).c_str(), h.dt, h.substeps, hash_every_);
   std::fflush(f_);
   thread_ = std::thread([this] { writer_main(); });
 }
@@ -185,14 +230,25 @@ RecordingWriter::~RecordingWriter() {
 }
 
 void RecordingWriter::applied(const Command& c) {
-  if (!ring_.push(c)) dropped_.fetch_add(1);
+  Entry e;
+  e.c = c;
+  if (!ring_.push(e)) dropped_.fetch_add(1);
+}
+
+void RecordingWriter::state_hash(int64_t ticks, uint64_t hash) {
+  Entry e;
+  e.c.tick = ticks;
+  e.hash = hash;
+  e.is_hash = true;
+  if (!ring_.push(e)) dropped_.fetch_add(1);
 }
 
 void RecordingWriter::drain() {
-  Command c;
+  Entry e;
   bool any = false;
-  while (ring_.pop(c)) {
-    std::fprintf(f_, "%s\n", format_command_line(c).c_str());
+  while (ring_.pop(e)) {
+    if (e.is_hash) std::fprintf(f_, "h %" PRId64 " %s\n", e.c.tick, hex16(e.hash).c_str());
+    else std::fprintf(f_, "%s\n", format_command_line(e.c).c_str());
     any = true;
   }
   if (any) std::fflush(f_);
@@ -205,11 +261,12 @@ void RecordingWriter::writer_main() {
   }
 }
 
-void RecordingWriter::finish(int64_t ticks, uint64_t state_hash) {
+void RecordingWriter::finish(int64_t ticks, uint64_t state_hash, int64_t fault_tick) {
   stop_.store(true);
   if (thread_.joinable()) thread_.join();
   if (!f_) return;
   drain();
+  if (fault_tick >= 0) std::fprintf(f_, "fault %" PRId64 "\n", fault_tick);
   std::fprintf(f_, "end %" PRId64 " %s\n", ticks, hex16(state_hash).c_str());
   std::fclose(f_);
   f_ = nullptr;

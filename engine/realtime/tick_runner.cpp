@@ -2,6 +2,9 @@
 
 #include <cstdio>
 #include <cstring>
+#include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace ps {
 
@@ -10,16 +13,63 @@ TickRunner::TickRunner(Simulation& sim, size_t queue_capacity)
   sim_.save(initial_);
 }
 
+void TickRunner::keep_last_good(bool on) {
+  keep_good_ = on;
+  if (on) {
+    sim_.save(good_);  // sized once here; later saves reuse the capacity
+    good_tick_ = tick_;
+    good_time_ = sim_.state().time;
+  }
+}
+
+bool TickRunner::last_good(SavedState& out) const {
+  if (!keep_good_) return false;
+  out.bytes = good_;
+  out.tick = good_tick_;
+  out.time = good_time_;
+  out.state_hash = saved_state_hash(good_);
+  out.fault = fault_text_.empty() ? "none" : fault_text_;
+  return true;
+}
+
 bool TickRunner::step(StageProbe* probe) {
   if (faulted_) return false;
   for (CommandSource* s : sources_) s->poll(tick_, sim_, applier_);
   applier_.apply_due(queue_, tick_);
-  if (!sim_.tick(probe)) {
+  if (keep_good_) {  // after the commands: restoring it and running on gives the same bits
+    sim_.save(good_);
+    good_tick_ = tick_;
+    good_time_ = sim_.state().time;
+  }
+  if (tick_ == inject_tick_) {  // once: a reset after the fault runs on clean
+    inject_tick_ = -1;
+    if (inject_internal_) throw std::logic_error("injected internal error at tick " + std::to_string(tick_) + " (test hook)");
+    State& st = sim_.state();
+    if (inject_particle_ >= 0 && inject_particle_ < static_cast<int>(st.x.size()))
+      st.x[inject_particle_].x() = std::numeric_limits<double>::quiet_NaN();
+  }
+  const int64_t at = tick_;
+  bool ok = sim_.tick(probe);
+  const Model& m = sim_.model();
+  char head[96];
+  if (!ok) {
+    std::snprintf(head, sizeof head, "tick %lld: ", static_cast<long long>(at));
+    fault_text_ = head + sim_.state().fault.describe(m);
+  } else if (watchdog_) {
+    const WatchFinding f = watchdog_->check(m, sim_.state());
+    if (!f.ok) {
+      ok = false;
+      std::snprintf(head, sizeof head, "tick %lld: watchdog: ", static_cast<long long>(at));
+      fault_text_ = head + f.describe(m);
+    }
+  }
+  if (!ok) {
     faulted_ = true;
     return false;
   }
   ++tick_;
   for (CommandSource* s : sources_) s->after_tick(tick_, sim_);
+  if (hash_observer_ && hash_every_ > 0 && tick_ % hash_every_ == 0) hash_observer_->state_hash(tick_, sim_.hash());
   return true;
 }
 
@@ -27,6 +77,8 @@ void TickRunner::reset() {
   sim_.restore(initial_);
   tick_ = 0;
   faulted_ = false;
+  fault_text_.clear();
+  if (keep_good_) keep_last_good(true);
   Command c;
   while (queue_.pop(c)) {
   }
@@ -73,7 +125,8 @@ void TickRunner::fill_snapshot(Snapshot& out, bool keep_events, bool with_hash) 
   out.state_hash = with_hash ? sim_.hash() : 0;
   out.faulted = faulted_ || s.fault.kind != StepFault::None;
   out.fault.fill(0);
-  if (out.faulted) std::snprintf(out.fault.data(), out.fault.size(), "%s", s.fault.describe(m).c_str());
+  if (out.faulted)
+    std::snprintf(out.fault.data(), out.fault.size(), "%s", fault_text_.empty() ? s.fault.describe(m).c_str() : fault_text_.c_str());
 }
 
 }  // namespace ps

@@ -6,13 +6,25 @@
 //   3. Simulation::tick().
 // Applied commands go to the observer (the recorder) stamped with the tick they were applied at.
 // Snapshots: fill_snapshot() copies what readers need (engine/realtime/snapshot.h).
+//
+// Recovery (issue 14): a fault (the step's own NaN / speed / excursion check, or the optional
+// Watchdog after each tick: energy growth, volume drift, a particle leaving the scene) stops the
+// runner; fault_text() names the tick, time, kind and particle. With keep_last_good(true) the
+// state before the faulting tick is kept (one save() per tick into a reused buffer), so it can be
+// written to a file (engine/realtime/state_file.h) and reset() goes back to the start.
+// Periodic state hashes: with set_hash_observer(o, n) the runner hands o the full state hash
+// after every n-th tick (recordings carry them; replay checks them and names the first tick that
+// diverges).
 #pragma once
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "engine/realtime/command_apply.h"
 #include "engine/realtime/command_queue.h"
 #include "engine/realtime/snapshot.h"
+#include "engine/realtime/state_file.h"
+#include "engine/sim/watchdog.h"
 #include "engine/step/simulation.h"
 
 namespace ps {
@@ -30,6 +42,13 @@ class CommandSource {
   virtual void rewind() {}
 };
 
+// Receives the full state hash after every n-th tick (TickRunner::set_hash_observer).
+class HashObserver {
+ public:
+  virtual ~HashObserver() = default;
+  virtual void state_hash(int64_t ticks, uint64_t hash) = 0;  // ticks completed
+};
+
 class TickRunner {
  public:
   // `sim` must outlive the runner. The initial state is saved for reset().
@@ -45,8 +64,35 @@ class TickRunner {
   bool step(StageProbe* probe = nullptr);
   int64_t tick() const { return tick_; }        // ticks completed
   bool faulted() const { return faulted_; }
-  // Back to the state at construction, tick 0, sources rewound, queue emptied.
+  // Back to the state at construction, tick 0, sources rewound, queue emptied, fault cleared.
   void reset();
+
+  // --- recovery ---
+  // Checked after every tick (must outlive the runner; null: none). A finding is a fault.
+  void set_watchdog(const Watchdog* w) { watchdog_ = w; }
+  // Keep the state before each tick (the last good state when the tick faults).
+  void keep_last_good(bool on);
+  // The state before the tick that faulted (or before the current tick when not faulted).
+  // False when keep_last_good is off. Fills bytes, tick, time and the state hash.
+  bool last_good(SavedState& out) const;
+  // "tick 1234: t=1.234 s: particle 17 (component 'prostate') position or velocity is NaN/Inf"
+  // or "tick 1234: watchdog: energy growth at t=..., particle ..." ("" when not faulted)
+  const std::string& fault_text() const { return fault_text_; }
+  // Test hook (the loop, never the step): before tick `tick` runs, particle `particle`'s
+  // position is made NaN (once), so the step's own check faults on it (a simulation fault); with
+  // `internal`, a std::logic_error is thrown instead (an internal error: a bug). -1: off.
+  void inject_fault(int64_t tick, int particle = 0, bool internal = false) {
+    inject_tick_ = tick;
+    inject_particle_ = particle;
+    inject_internal_ = internal;
+  }
+
+  // --- periodic hashes (recordings) ---
+  void set_hash_observer(HashObserver* o, int every) {
+    hash_observer_ = o;
+    hash_every_ = every;
+  }
+  int hash_every() const { return hash_observer_ ? hash_every_ : 0; }
 
   // Fills `out` with the current state. keep_events: `out` holds events not yet read (a
   // snapshot the reader skipped), so append to them instead of replacing them.
@@ -62,6 +108,17 @@ class TickRunner {
   std::vector<uint8_t> initial_;
   std::vector<int64_t> event_cursor_;  // per tool
   int64_t refusal_cursor_ = 0;
+  const Watchdog* watchdog_ = nullptr;
+  bool keep_good_ = false;
+  std::vector<uint8_t> good_;      // save() before the current / faulting tick
+  int64_t good_tick_ = 0;
+  double good_time_ = 0.0;
+  std::string fault_text_;
+  int64_t inject_tick_ = -1;
+  int inject_particle_ = 0;
+  bool inject_internal_ = false;
+  HashObserver* hash_observer_ = nullptr;
+  int hash_every_ = 0;
 };
 
 }  // namespace ps

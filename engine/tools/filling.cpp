@@ -62,6 +62,10 @@ FillingTool::FillingTool(const FillingSpec& spec, const Model& m) : max_rate_(sp
   for (Organ& o : organs_) {
     std::stable_sort(o.raw.begin(), o.raw.end(), [](const Raw& a, const Raw& b) { return a.t0 < b.t0; });
     resolve(o, true);
+    // room for live commands: applying one between ticks does not allocate (issue 10), up to
+    // kLiveSegments of them per organ
+    o.raw.reserve(o.raw.size() + kLiveSegments);
+    o.seg.reserve(o.raw.size() + kLiveSegments);
   }
 }
 

@@ -81,6 +81,7 @@ class FillingTool final : public Tool {
     size_t cursor = 0;             // segment in force (time only moves forward)
     double current = 0.0;          // target at now_ [m^3]
   };
+  static constexpr size_t kLiveSegments = 256;
   void resolve(Organ& o, bool constructing);
   Organ& organ(const std::string& component, const char* field);
   static double value_at(const Organ& o, size_t& cursor, double t);

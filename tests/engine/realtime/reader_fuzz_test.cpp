@@ -1,19 +1,23 @@
-// Seeded mutation fuzzing of the script and recording readers (engine/realtime/script.h and
-// recording.h, from the real-time work): 10 000 mutated inputs each (4 shards of 2 500, fixed
-// seeds so a failure replays), from config/scripts/*.yaml and from recordings written by
-// format_command_line. Each must parse or throw InputError naming the file; never another
+// Seeded mutation fuzzing of the script, recording and saved-state readers
+// (engine/realtime/script.h, recording.h, state_file.h): 10 000 mutated inputs each (4 shards of
+// 2 500, fixed seeds so a failure replays), from config/scripts/*.yaml, from recordings written by
+// format_command_line (versions 1 and 2) and from a state file written by write_state_file. Each must parse or throw InputError naming the file; never another
 // exception, a crash or a hang. Compiled only where those readers exist (__has_include), so this
 // file can land before them.
 #if __has_include("engine/realtime/script.h") && __has_include("engine/realtime/recording.h")
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
 
 #include "engine/realtime/recording.h"
 #include "engine/realtime/script.h"
+#include "engine/realtime/state_file.h"
 #include "engine/util/error.h"
 
 namespace ps {
@@ -80,7 +84,32 @@ std::vector<std::string> recording_seeds() {
     c.value = 1e-6 * k;
     text += format_command_line(c) + "\n";
   }
-  return {text, text + "end 20 0123456789abcdef\n"};
+  // version 2: hash_every, periodic hashes, a fault line
+  std::string v2 = std::string("prostatesim-recording 2\nprogram ") + kProgramVersion +
+                   "\nscenario s\nscenario_hash 0123456789abcdef\ndt 0.001\nsubsteps 2\nhash_every 5\n";
+  for (int k = 0; k < 6; ++k) {
+    c.tick = 3 * k;
+    v2 += format_command_line(c) + "\n";
+    if (k % 2 == 1) v2 += "h " + std::to_string(5 * (k / 2 + 1)) + " 00000000000000a" + std::to_string(k) + "\n";
+  }
+  return {text, text + "end 20 0123456789abcdef\n", v2 + "fault 19\nend 19 0123456789abcdef\n"};
+}
+
+// saved states (engine/realtime/state_file.h): header and bytes
+std::vector<std::string> state_seeds() {
+  SavedState st;
+  st.scenario = "s";
+  st.scenario_hash = 0x0123456789abcdefull;
+  st.tick = 42;
+  st.time = 0.042;
+  st.fault = "tick 42: t=0.042 s: particle 3 (component 'prostate') position or velocity is NaN/Inf";
+  for (int i = 0; i < 200; ++i) st.bytes.push_back(static_cast<uint8_t>(i * 37));
+  st.state_hash = saved_state_hash(st.bytes);
+  const std::string path = (std::filesystem::temp_directory_path() / ("ps_fuzz_state_" + std::to_string(::getpid()))).string();
+  write_state_file(path, st);
+  const std::string text = read_text(path);
+  std::filesystem::remove(path);
+  return {text};
 }
 
 void script_shard(uint64_t seed) {
@@ -90,6 +119,14 @@ void recording_shard(uint64_t seed) {
   shard(recording_seeds(), seed, 2500, "fuzz.rec", [](const std::string& t) { parse_recording_text(t, "fuzz.rec"); });
 }
 
+void state_shard(uint64_t seed) {
+  shard(state_seeds(), seed, 2500, "fuzz.state", [](const std::string& t) { parse_state_text(t, "fuzz.state"); });
+}
+
+TEST(StateFileReaderFuzz, Shard1) { state_shard(41); }
+TEST(StateFileReaderFuzz, Shard2) { state_shard(42); }
+TEST(StateFileReaderFuzz, Shard3) { state_shard(43); }
+TEST(StateFileReaderFuzz, Shard4) { state_shard(44); }
 TEST(ScriptReaderFuzz, Shard1) { script_shard(21); }
 TEST(ScriptReaderFuzz, Shard2) { script_shard(22); }
 TEST(ScriptReaderFuzz, Shard3) { script_shard(23); }

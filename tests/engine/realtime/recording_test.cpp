@@ -132,7 +132,7 @@ TEST(Recording, MalformedRecordingsNameFileAndLine) {
   c.tick = 3;
   const std::string back = format_command_line(c);
   expect_bad_recording("hello\n", 1, "not a ProstateSim recording");
-  expect_bad_recording("prostatesim-recording 2\n", 1, "version 2");
+  expect_bad_recording("prostatesim-recording 3\n", 1, "version 3");
   expect_bad_recording("prostatesim-recording 1\nprogram 0.0\n", 2, "recorded by prostatesim 0.0");
   expect_bad_recording(head + ok + "\n" + back + "\n", 8, "ticks go backwards");
   std::string unknown = ok;
