@@ -43,7 +43,7 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 struct BenchArgs {
   bool quick = false;
   std::string out = "out/bench", json, root;
-  std::string models = "paper,strain";
+  std::string models = "paper,strain,tet";
   std::string reference_model = "strain";
 };
 
@@ -325,7 +325,7 @@ void add_bench_command(CLI::App& app, Runner& run) {
         if (c.name == "prostate") {
           ship_spacing = c.spacing * 1e3;
           for (const auto& m : biopsy.materials)
-            if (m.name == c.material) ship_model = m.strain_model ? "strain" : "paper";
+            if (m.name == c.material) ship_model = m.tet_model ? "tet" : m.strain_model ? "strain" : "paper";
         }
       std::vector<Config> cs;
       for (const auto& m : models)
