@@ -16,14 +16,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using ps::test::read_text;  // tests/app/run_cli.h
 
-ps::MetricsRow metrics_in(const fs::path& dir) { return ps::parse_metrics_json(slurp(dir / "metrics.json"), (dir / "metrics.json").string()); }
+ps::MetricsRow metrics_in(const fs::path& dir) { return ps::parse_metrics_json(read_text(dir / "metrics.json"), (dir / "metrics.json").string()); }
 
 TEST(SessionCapture, RunAndReplayWriteTheSameMetricsAndTheReport) {
   const fs::path dir = ps::test::cli_temp_dir("session_capture");
@@ -48,7 +43,7 @@ TEST(SessionCapture, RunAndReplayWriteTheSameMetricsAndTheReport) {
   const ps::MetricsRow b = metrics_in(out_rep);
   EXPECT_EQ(b.mean_error_mm, a.mean_error_mm) << "replay is bit for bit";
   EXPECT_EQ(b.score, a.score);
-  EXPECT_EQ(slurp(out_rep / "force_depth_n.csv"), slurp(out_run / "force_depth_n.csv"));
+  EXPECT_EQ(read_text(out_rep / "force_depth_n.csv"), read_text(out_run / "force_depth_n.csv"));
 }
 
 TEST(SessionCapture, BadReportOptionsExit2WritingNothing) {
@@ -62,7 +57,7 @@ TEST(SessionCapture, BadReportOptionsExit2WritingNothing) {
   EXPECT_NE(r.out.find("--report"), std::string::npos) << r.out;
   // no needles: nothing to score
   const fs::path plain = dir / "plain.yaml";
-  std::string y = slurp(scen);
+  std::string y = read_text(scen);
   y = y.substr(0, y.find("needles:"));
   std::ofstream(plain) << y;
   r = ps::test::run_cli("run " + plain.string() + " --headless --unpaced --duration 0.05 --report " + (dir / "out").string());

@@ -15,16 +15,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using ps::test::read_text;  // tests/app/run_cli.h
 
 // The first ```bash block after `heading` in docs/batch.md.
 std::string doc_block(const std::string& heading) {
-  const std::string d = slurp(fs::path(PROSTATESIM_SOURCE_DIR) / "docs" / "batch.md");
+  const std::string d = read_text(fs::path(PROSTATESIM_SOURCE_DIR) / "docs" / "batch.md");
   const size_t h = d.find(heading);
   if (h == std::string::npos) return {};
   const size_t b = d.find("```bash\n", h);
@@ -60,21 +55,21 @@ TEST(BatchScript, DocumentedParallelLinesReplayTwoRecordings) {
   const std::string from = "config/biopsy.yaml";
   ASSERT_NE(cmds.find(from), std::string::npos);
   cmds.replace(cmds.find(from), from.size(), "config/block.yaml");
-  ASSERT_EQ(shell(dir.string(), cmds), 0) << slurp(dir / "batch.log");
+  ASSERT_EQ(shell(dir.string(), cmds), 0) << read_text(dir / "batch.log");
   for (const char* who : {"alice", "bob"}) {
     const fs::path out = dir / "out" / "class" / who / "2026-12-01";
     EXPECT_TRUE(fs::exists(out / "metrics.json")) << out;
     EXPECT_TRUE(fs::exists(out / "report.png")) << out;
-    EXPECT_NE(slurp(out / "metrics.json").find(std::string("\"trainee\": \"") + who + "\""), std::string::npos);
+    EXPECT_NE(read_text(out / "metrics.json").find(std::string("\"trainee\": \"") + who + "\""), std::string::npos);
   }
-  const std::string csv = slurp(dir / "out" / "class_report" / "sessions.csv");
+  const std::string csv = read_text(dir / "out" / "class_report" / "sessions.csv");
   EXPECT_NE(csv.find("alice"), std::string::npos) << csv;
   EXPECT_NE(csv.find("bob"), std::string::npos) << csv;
   EXPECT_TRUE(fs::exists(dir / "out" / "class_report" / "summary.png"));
   // a line naming a missing recording: exit 2 from the job, the batch stops
   std::ofstream(dir / "bad.txt") << "config/block.yaml class/carol/none.rec\n";
   EXPECT_NE(shell(dir.string(), "scripts/session_job.sh bad.txt out/bad 1\n"), 0);
-  EXPECT_NE(slurp(dir / "batch.log").find("none.rec"), std::string::npos) << slurp(dir / "batch.log");
+  EXPECT_NE(read_text(dir / "batch.log").find("none.rec"), std::string::npos) << read_text(dir / "batch.log");
 }
 
 }  // namespace

@@ -19,12 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using ps::test::read_text;  // tests/app/run_cli.h
 
 struct Shot {
   int w = 0, h = 0;
@@ -69,14 +64,14 @@ class EditorWindow : public ::testing::Test {
     const int st = std::system(cmd.c_str());
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
   }
-  std::string log() const { return slurp(dir_ / "log.txt"); }
+  std::string log() const { return read_text(dir_ / "log.txt"); }
   fs::path dir_, file_;
 };
 
 TEST_F(EditorWindow, OpensAppliesAnEditAndSaves) {
-  const std::string before = slurp(file_), png = (dir_ / "edit.png").string();
+  const std::string before = read_text(file_), png = (dir_ / "edit.png").string();
   ASSERT_EQ(edit("--set materials.prostate.young_kpa=45 --save", png), 0) << log();
-  const std::string after = slurp(file_);
+  const std::string after = read_text(file_);
   std::string expected = before;
   const std::string from = "prostate: {model: tet, young_kpa: 40,", to = "prostate: {model: tet, young_kpa: 45,";
   ASSERT_NE(expected.find(from), std::string::npos);
@@ -109,14 +104,14 @@ TEST_F(EditorWindow, PreviewRunsTheEditedSceneAsTheSimulationDoes) {
 }
 
 TEST_F(EditorWindow, RefusedEditExits2AndLeavesTheFile) {
-  const std::string before = slurp(file_);
+  const std::string before = read_text(file_);
   EXPECT_EQ(edit("--set materials.prostate.young_kpa=-40 --save", (dir_ / "r.png").string()), 2) << log();
-  EXPECT_EQ(slurp(file_), before);
+  EXPECT_EQ(read_text(file_), before);
   EXPECT_NE(log().find("materials.prostate.young_kpa"), std::string::npos) << log();
 }
 
 TEST_F(EditorWindow, HandBrokenFileOpensWithItsError) {
-  std::string t = slurp(file_);
+  std::string t = read_text(file_);
   t.replace(t.find("young_kpa: 40"), 13, "young_kpa: -4");
   std::ofstream(file_) << t;
   const std::string png = (dir_ / "broken.png").string();
