@@ -154,8 +154,10 @@ EditResult EditorCommands::add_filling() {
   }
   if (pick < 0) return refused("filling", "no organ has a volume constraint (incompressible: true): nothing can be filled");
   const double rest_ml = 1e6 * m.surfaces[static_cast<size_t>(m.components[static_cast<size_t>(pick)].surface)].rest_volume;
+  char ml[64];
+  std::snprintf(ml, sizeof ml, "%.10g", rest_ml);  // the rest volume itself, not a rounding of it
   return doc_.set("filling", "{max_rate_ml_s: 5, schedule: [{component: " + m.components[static_cast<size_t>(pick)].name +
-                                 ", target_ml: " + num(rest_ml) + ", ramp_s: [0, 1]}]}");
+                                 ", target_ml: " + ml + ", ramp_s: [0, 1]}]}");
 }
 
 EditResult EditorCommands::add_probe(const std::string& mount) {

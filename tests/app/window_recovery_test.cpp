@@ -49,7 +49,7 @@ class WindowRecovery : public ::testing::Test {
   int window(const std::string& clicks, const std::string& png) {
     const std::string cmd = "cd " + dir_.string() + " && PROSTATESIM_CLICKS='" + clicks + "' PROSTATESIM_SCREENSHOT=" + png +
                             " timeout 240 xvfb-run -a -s '-screen 0 1600x900x24' " PROSTATESIM_BINARY " run " + scene_ + " --script " +
-                            script_ + " --duration 0.3 --inject-fault nan@100 > " + (dir_ / "log.txt").string() + " 2>&1";
+                            script_ + " --duration 0.3 --unpaced --inject-fault nan@100 > " + (dir_ / "log.txt").string() + " 2>&1";
     const int st = std::system(cmd.c_str());
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
   }

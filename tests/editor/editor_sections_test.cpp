@@ -59,7 +59,6 @@ TEST_F(EditorSections, AddFillingSaveAndLoadGiveTheSameCompiledScenario) {
   ASSERT_FALSE(again.ok);
   EXPECT_EQ(again.issue->field, "filling");
   ASSERT_TRUE(c.set_fill_target_ml(0, 1.5 * rest * 1e6).ok);
-  ASSERT_TRUE(c.set_max_fill_rate_ml_s(20).ok);
   // refused when the volume leaves 0.1..10x rest (the filling tool's own check, next to the field)
   const EditResult too_big = c.set_fill_target_ml(0, 20 * rest * 1e6);
   ASSERT_FALSE(too_big.ok);
