@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <thread>
 
+#include <unistd.h>
+
 #include "engine/realtime/lockstep.h"
 #include "engine/realtime/physics_loop.h"
 #include "engine/realtime/state_file.h"
@@ -19,12 +21,12 @@
 namespace ps {
 namespace {
 
-struct Run {
+struct LiveRun {
   Scene sc = test::make_live_scene();
   Script script = parse_script_text(test::live_script_yaml(), "live.yaml");
   CommandPlayer player{script_commands(script, sc)};
   LockstepRunner run{*sc.sim};
-  Run() { run.add_source(&player); }
+  LiveRun() { run.add_source(&player); }
 };
 
 std::string temp(const std::string& name) {
@@ -33,7 +35,7 @@ std::string temp(const std::string& name) {
 
 // the state after 150 ticks, written to a file as `run` writes it, read back
 SavedState saved_at_150(const std::string& path) {
-  Run a;
+  LiveRun a;
   EXPECT_TRUE(a.run.advance_to(150));
   SavedState st;
   a.run.runner().current_state(st);
@@ -44,7 +46,7 @@ SavedState saved_at_150(const std::string& path) {
 }
 
 TEST(StateLoad, SavedAtTick150LoadedIntoAFreshSceneGoesOnBitForBit) {
-  Run clean;
+  LiveRun clean;
   ASSERT_TRUE(clean.run.advance_to(150));
   const uint64_t at150 = clean.run.hash();
   ASSERT_TRUE(clean.run.advance_to(450));
@@ -57,7 +59,7 @@ TEST(StateLoad, SavedAtTick150LoadedIntoAFreshSceneGoesOnBitForBit) {
   EXPECT_EQ(st.file, path);
   check_state_matches(st, "live_box", 0x1234);  // no throw
 
-  Run b;
+  LiveRun b;
   ASSERT_TRUE(b.run.advance_to(40));  // mid-run: the load replaces this
   b.run.runner().load_state(st);
   EXPECT_EQ(b.run.tick(), 150);
@@ -69,7 +71,7 @@ TEST(StateLoad, SavedAtTick150LoadedIntoAFreshSceneGoesOnBitForBit) {
 }
 
 TEST(StateLoad, TheThreadedLoopLoadsBetweenTicksWhileItRuns) {
-  Run clean;
+  LiveRun clean;
   ASSERT_TRUE(clean.run.advance_to(450));
   const uint64_t at450 = clean.run.hash();
   const std::string path = temp("loop");
@@ -119,7 +121,7 @@ TEST(StateLoad, BadFilesAreRefusedNamingFileAndFieldAndNothingChanges) {
     EXPECT_NE(std::string(e.what()).find(path + ":4:"), std::string::npos) << e.what();
   }
 
-  Run b;
+  LiveRun b;
   ASSERT_TRUE(b.run.advance_to(60));
   const uint64_t before = b.run.hash();
   // bytes that do not fit this simulation (a state cut short, its hash made to match)
