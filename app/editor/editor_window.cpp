@@ -300,6 +300,17 @@ void fill_probe_panel(EditorCommands& c, FieldErrors& errs) {
       number_field(errs, f, key, number_or(c.doc().value_text(key), 0.0), [&](double v) { return c.set_probe_pose(f, v); });
     }
   }
+  // a missing section is added with defaults (EditorCommands::add_filling / add_probe)
+  if (s && !s->filling && ImGui::Button("Add bladder filling")) errs.note("filling", c.add_filling());
+  if (s && !s->probe) {
+    if (ImGui::Button("Add probe (biopsy guide)")) errs.note("probe", c.add_probe("needle_guide"));
+    ImGui::SameLine();
+    if (ImGui::Button("Add probe (template)")) errs.note("probe", c.add_probe("template"));
+  }
+  for (const char* k : {"filling", "probe"}) {
+    const std::string m = errs.for_key(k);
+    if (!m.empty()) ImGui::TextColored(kRed, "  %s", m.c_str());
+  }
 }
 
 void needle_panel(EditorCommands& c, FieldErrors& errs, Ui& ui) {
@@ -487,7 +498,7 @@ int run_editor(const EditorArgs& a) {
         if (c.spec()) {
           if (ImGui::CollapsingHeader("Organs and materials", ImGuiTreeNodeFlags_DefaultOpen)) organ_panel(c, errs, ui);
           if (ImGui::CollapsingHeader("Lesions and targets", ImGuiTreeNodeFlags_DefaultOpen)) lesion_panel(c, errs, ui);
-          if ((c.spec()->filling || c.spec()->probe) && ImGui::CollapsingHeader("Bladder and probe", ImGuiTreeNodeFlags_DefaultOpen))
+          if (ImGui::CollapsingHeader("Bladder and probe", ImGuiTreeNodeFlags_DefaultOpen))
             fill_probe_panel(c, errs);
           if (ImGui::CollapsingHeader("Needle plan", ImGuiTreeNodeFlags_DefaultOpen)) needle_panel(c, errs, ui);
           if (ImGui::CollapsingHeader("Preview", ImGuiTreeNodeFlags_DefaultOpen)) {
