@@ -307,9 +307,9 @@ void fill_probe_panel(EditorCommands& c, FieldErrors& errs) {
     ImGui::SameLine();
     if (ImGui::Button("Add probe (template)")) errs.note("probe", c.add_probe("template"));
   }
-  for (const char* k : {"filling", "probe"}) {
-    const std::string m = errs.for_key(k);
-    if (!m.empty()) ImGui::TextColored(kRed, "  %s", m.c_str());
+  for (const char* k : {"filling", "probe"}) {  // refusals of the add buttons (field errors show at their fields)
+    const auto it = errs.all().find(k);
+    if (it != errs.all().end()) ImGui::TextColored(kRed, "  %s", it->second.c_str());
   }
 }
 
