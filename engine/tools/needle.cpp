@@ -217,6 +217,14 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
       if (puncture_kc_[c] > 0.0 && !mf.sheet[c] && m.components[c].surface >= 0 &&
           inside_rest_surface(m, m.surfaces[m.components[c].surface], nd.T))
         nd.entered[c] = 1;
+    // a needle that starts in the lumen of a wall (in the probe's guide in the rectum) leaves it
+    // through the wall: nothing touches it but the wall it presses until it is through
+    for (int c = 0; c < nc && nd.lumen < 0; ++c)
+      if (puncture_kc_[c] > 0.0 && mf.sheet[c] && m.components[c].surface >= 0 &&
+          inside_rest_surface(m, m.surfaces[m.components[c].surface], nd.T)) {
+        nd.lumen = c;
+        nd.in_lumen = true;
+      }
     for (double depth : spec.seed_depths) {
       SeedState sd;
       sd.depth = depth;
@@ -285,7 +293,7 @@ void NeedleTool::forces(const Model& m, State& s, double dt) {
   coupling_stats_.softened_substeps += budget_->softened > 0;
   for (auto& p : needles_) {
     Needle& nd = *p;
-    const Vec3 f_tissue = apply_needle_tissue_forces(nd, m, s, puncture_kc_, *membranes_, events_);
+    const Vec3 f_tissue = apply_needle_tissue_forces(nd, m, s, puncture_kc_, *membranes_, dt, events_);
     move_needle(nd, m, s, f_tissue, dt, bone_.get(), events_);
   }
 }

@@ -29,14 +29,22 @@
 //    (the cutting zone before entry, paper §4.2.1): those within R = max(cutting_radius, longest
 //    edge of the crossed face) of X, with weights 1 - (r/R)^2. (Loading only the face's three
 //    particles made a spike so deep and narrow that the lattice under it buckled at ~15 mm.)
-//    The surface deflects before puncture and is breached when P reaches the same weighted
-//    average of the puncture weights (`puncture_n`, eq. 5): event, and the component counts
-//    as entered, so its particles are cut and rub from then on. Before that, an intact
+//    The contact is critically damped on the approach speed of tip and patch (a sharp tip
+//    indents, it does not bounce: P += 2 sqrt(k M) (V - v_patch) . d, M the patch's effective
+//    mass), so a fast tip reaches the threshold after less deflection (docs/needle.md).
+//    The surface deflects before puncture and is breached, in the substep where P reaches the
+//    same weighted average of the puncture weights (`puncture_n`, eq. 5): event (value: P at
+//    rupture), and the component counts as entered, so its particles are cut and rub from then on. Before that, an intact
 //    membrane's particles take no cutting or friction (the needle is outside it). A needle that
 //    starts inside a volume has entered it. Walls modelled as surfaces (fill: surface: rectum,
 //    bladder) are sheets: pressed from either side (transrectal biopsy leaves the lumen through
 //    the wall), torn one hole at a time (a far wall is punctured again), never cut; their
-//    particles outside the pressed patch rub the shaft.
+//    particles outside the pressed patch rub the shaft. A needle that starts in a wall's lumen
+//    (transrectal: in the probe's guide) touches nothing but the patch it presses until it is
+//    through; then only its part beyond the hole meets the tissue beyond the wall, and the wall
+//    rubs it at the hole only (the lumen and the guide hold no tissue; zones one spacing wide
+//    would otherwise reach through the intact wall, cut and rub the fat beyond it and drag the
+//    wall ahead of the tip: it tented 7 mm and broke at 4.2 N total against its 1.5 N).
 //  * cutting (eq. 5): C = sum k_c^i/d_i / sum 1/d_i over the cutting zone of entered components,
 //    particle i receives k_c^i (1/d_i) / sum 1/d_j along d. Applied only while the needle moves
 //    forward (ramped in over cut_velocity, on the axial speed low-passed over kCutFilterTime):

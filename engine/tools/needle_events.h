@@ -11,7 +11,8 @@ namespace ps {
 
 enum class NeedleEventKind : uint8_t {
   Contact,      // tip first touches tissue of a component
-  Puncture,     // a component's surface (capsule, wall, skin) breached: depth, force
+  Puncture,     // a component's surface (capsule, wall, skin) breached: depth, force (total axial, peak since
+                // the previous puncture), value = the contact force on the surface at rupture [N]
   Stick,        // a node's virtual tissue particle went from slip to stick (node)
   Slip,         // ... from stick to slip (node)
   Seed,         // seed deposited (value = seed index; component = -1 when no tissue held it)

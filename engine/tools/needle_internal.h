@@ -86,6 +86,15 @@ struct NeedleTool::Needle {
   std::vector<uint8_t> face_breached;    // [faces] sheet faces this needle has torn through
   int press_face_id = -1;                // index of the crossed face in MembraneFaces
   uint32_t epoch = 0;
+  // the lumen of a wall (sheet) the tip started in (transrectal biopsy: the rectum, the needle in
+  // the probe's guide). The lumen holds no tissue: until the tip has gone out through the wall,
+  // only the pressed patch touches the needle (zones would otherwise reach through the intact
+  // wall and cut and rub the tissue beyond it, dragging the wall ahead of the tip); afterwards
+  // only the part of the shaft beyond the hole does, and the wall rubs it only at the hole.
+  int lumen = -1;                        // sheet component, -1: none
+  bool in_lumen = false;                 // the tip is inside it
+  double exit_a = -1e300;                // the hole's position along d relative to the tip (< 0) [m]
+  Vec3 exit_point = Vec3::Zero();        // where the axis crosses the wall at the hole [m]
   // virtual tissue particles
   std::vector<AffineAnchor> anchors;     // [node_count]
   // stability bound of the virtual-particle springs (needle_coupling.cpp): per node, the bound
@@ -149,8 +158,9 @@ void bound_needle_coupling(std::vector<std::unique_ptr<NeedleTool::Needle>>& nee
 
 // needle_forces.cpp: Algorithm 2 per node: tissue forces, virtual elastic force, stick/slip;
 // returns the tissue reaction on the needle [N]
+// (h: the substep [s])
 Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s, const std::vector<double>& puncture_kc,
-                                const MembraneFaces& mf, NeedleEventRing& events);
+                                const MembraneFaces& mf, double h, NeedleEventRing& events);
 // needle_motion.cpp: commanded pose at time t
 void needle_command(const NeedleTool::Needle& nd, double t, Vec3& tip, Vec3& dir, Vec3& vel);
 // needle_motion.cpp: computeNeedleMovement + adjustIntensityNeedleVelocity + bone stop

@@ -224,6 +224,10 @@ void NeedleTool::serialize(StateIO& io) {
     io.array(nd.face_breached);
     io.pod(nd.press_face_id);
     io.pod(nd.epoch);
+    io.pod(nd.lumen);
+    io.pod(nd.in_lumen);
+    io.pod(nd.exit_a);
+    io.vec(nd.exit_point);
     for (AffineAnchor& a : nd.anchors) anchor_io(a, io);
     io.array(nd.anchor_c);
     io.array(nd.anchor_csum);

@@ -97,15 +97,20 @@ void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s,
   nd.press_n = 0;
   nd.press_a = -press_reach;
   ++nd.epoch;
+  // the wall of the lumen the needle started in: the crossings of the axis with it nearest behind
+  // and ahead of the tip, torn or intact (where the shaft leaves the lumen; whether the tip is back)
+  double lumen_behind = -1e300, lumen_ahead = 1e300;
+  bool behind_torn = false, ahead_torn = false;
   for (int p : nd.tracked) {
     const int c = m.component_of[p];
     const bool sheet = mf.sheet[c] != 0;
+    const bool lumen_wall = c == nd.lumen;
     if (!(puncture_kc[c] > 0.0) || !m.on_surface[p] || (!sheet && nd.entered[c])) continue;
     for (int k = mf.start[p]; k < mf.start[p + 1]; ++k) {
       const int f = mf.list[k];
       if (nd.face_epoch[f] == nd.epoch) continue;
       nd.face_epoch[f] = nd.epoch;
-      if (sheet && nd.face_breached[f]) continue;
+      if (sheet && nd.face_breached[f] && !lumen_wall) continue;
       const auto& fc = mf.faces[f];
       const Vec3 &A = s.x[fc[0]], &B = s.x[fc[1]], &C = s.x[fc[2]];
       const Vec3 e1 = B - A, e2 = C - A;
@@ -122,6 +127,12 @@ void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s,
       constexpr double tol = 1e-9;  // shared edges: a crossing is never lost between two faces
       if (u < -tol || v < -tol || u + v > 1.0 + tol) continue;
       const double t = e2.dot(qv) * inv;
+      if (lumen_wall) {
+        const bool torn = nd.face_breached[f] != 0;
+        if (t < 0.0 && t > lumen_behind) { lumen_behind = t; behind_torn = torn; }
+        if (t >= 0.0 && t < lumen_ahead) { lumen_ahead = t; ahead_torn = torn; }
+        if (torn) continue;
+      }
       if (t >= 0.0 || t < nd.press_a) continue;  // ahead of the tip, or not the nearest behind it
       nd.press_n = 1;
       nd.press_a = t;
@@ -168,14 +179,32 @@ void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s,
     }
   }
 
+  // out of the lumen through a hole, the hole is where the axis crosses a torn face of its wall
+  // nearest behind the tip; retracted back in, a torn face is the nearest crossing ahead
+  if (nd.lumen >= 0 && !nd.in_lumen) {
+    if (behind_torn) {
+      nd.exit_a = lumen_behind;
+      nd.exit_point = T + lumen_behind * d;
+    } else if (ahead_torn) {
+      nd.in_lumen = true;
+    }
+  }
+
   // 5. cutting and friction zones
   for (int j = 0; j < nd.node_count; ++j) nd.zone_n[j] = 0;
   nd.cut_n = 0;
   const double Rc2 = nd.Rc * nd.Rc;
+  const double Rf2 = nd.Rf * nd.Rf;
+  // tip in the lumen: only the pressed patch touches the needle (nothing is zoned)
+  const bool shielded = nd.lumen >= 0 && nd.in_lumen;
+  const bool through = nd.lumen >= 0 && !nd.in_lumen;
   for (int p : nd.tracked) {
+    if (shielded) break;
     const int c = m.component_of[p];
     const bool membrane = puncture_kc[c] > 0.0;
     const bool sheet = mf.sheet[c] != 0;
+    // through the lumen's wall: its particles rub the shaft only at the hole
+    if (through && c == nd.lumen && (s.x[p] - nd.exit_point).squaredNorm() > Rf2) continue;
     // an intact volume's particles take nothing until it is entered (the needle is outside)
     if (membrane && !sheet && !nd.entered[c]) continue;
     // the pressed patch of a wall is pushed, not rubbed
@@ -192,7 +221,10 @@ void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s,
     // behind the tip plane: friction zones of the nodes within Rf
     const double u = -a;
     const int j_lo = std::max(0, static_cast<int>(std::ceil((u - nd.Rf) / sp)));
-    const int j_hi = std::min(nd.node_count - 1, static_cast<int>(std::floor((u + nd.Rf) / sp)));
+    int j_hi = std::min(nd.node_count - 1, static_cast<int>(std::floor((u + nd.Rf) / sp)));
+    // nodes behind the hole are in the lumen (or the probe's guide): tissue beyond the wall
+    // does not reach them through it
+    if (through && c != nd.lumen) j_hi = std::min(j_hi, static_cast<int>(std::floor(-nd.exit_a / sp)));
     for (int j = j_lo; j <= j_hi; ++j) {
       const double dj = (s.x[p] - needle_node(nd, j)).norm();
       if (dj > nd.Rf) continue;

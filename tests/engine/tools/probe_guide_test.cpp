@@ -10,6 +10,10 @@
 #include <cstdio>
 #include <numbers>
 
+#include "engine/mesh/mesh_import.h"
+#include "engine/mesh/mesh_query.h"
+#include "engine/realtime/script.h"
+#include "engine/tools/probe_geometry.h"
 #include "engine/util/error.h"
 #include "tests/engine/tools/probe_scene.h"
 
@@ -85,6 +89,56 @@ TEST(ProbeGuide, TemplateNeedleRunsParallelToTheProbeAndIgnoresTheStepper) {
   EXPECT_NEAR((r.command_tip - h0.entry).norm(), 0.0, 1e-15);  // the template did not move
   EXPECT_NEAR(s.probe->pose().insertion, target.insertion, 1e-15);
   EXPECT_THROW(hold_needle_in_template_hole(*s.needles, 0, *s.probe, 13, 0, 0.0), InputError);
+}
+
+}  // namespace
+}  // namespace ps
+
+namespace ps {
+namespace {
+
+// The default biopsy scene (config/biopsy.yaml with config/scripts/biopsy.yaml): its needle starts
+// at the exit of the probe's guide at the script's probe pose and runs along the guide, which
+// leaves the rectal lumen through the wall into the gland (rest geometry, assets/anatomy): the
+// shipped script's core (fired from its prefire depth) lies in the gland and the tip stops inside.
+TEST(ProbeGuide, DefaultBiopsyGuideCrossesTheRectalWallIntoTheGland) {
+  const std::string dir = std::string(PROSTATESIM_SOURCE_DIR) + "/";
+  const ScenarioSpec spec = parse_scenario_file(dir + "config/biopsy.yaml");
+  const Script script = parse_script_file(dir + "config/scripts/biopsy.yaml");
+  ProbePose pose = spec.probe->pose;
+  double prefire = 0.0;
+  for (const ScriptEntry& e : script.entries) {
+    if (e.action == "probe" && e.has_insertion) pose.insertion = e.insertion;
+    if (e.action == "fire") break;
+    if (e.action == "needle") prefire = e.depth;
+  }
+  const NeedlePath g = biopsy_guide_path(*spec.probe, probe_frame(*spec.probe, rectal_frame(*spec.probe), pose));
+  const NeedleSpec& n = spec.needles.needles.at(0);
+  EXPECT_LT((n.start - g.entry).norm(), 0.05e-3) << "the needle starts at the guide's exit";
+  EXPECT_LT((n.direction - g.direction).norm(), 1e-4) << "and runs along the guide";
+  MeshImportOptions mm;
+  mm.units = "mm";
+  const MeshQuery prostate(import_mesh(dir + "assets/anatomy/prostate.obj", mm));
+  const MeshQuery rectum(import_mesh(dir + "assets/anatomy/rectum.obj", mm));
+  // first points along the guide (0.1 mm steps) outside the rectum and inside the gland
+  double wall = -1, gland = -1;
+  for (double s = 0; s < 0.08 && gland < 0; s += 1e-4) {
+    const Vec3 q = g.entry + s * g.direction;
+    if (wall < 0 && !rectum.inside(q)) wall = s;
+    if (gland < 0 && prostate.inside(q)) gland = s;
+  }
+  const BiopsyGunSpec gun = *n.gun;
+  const double tip = prefire + gun.stroke;
+  const double lo = tip - gun.notch_offset - gun.notch_length, hi = tip - gun.notch_offset;
+  int in = 0, all = 0;
+  for (double s = lo; s <= hi; s += 1e-4, ++all) in += prostate.inside(g.entry + s * g.direction);
+  std::printf("guide: rectal wall %.1f mm, capsule %.1f mm; prefire %.1f mm, tip after the stroke %.1f mm, notch %.0f %% in "
+              "the gland\n", wall * 1e3, gland * 1e3, prefire * 1e3, tip * 1e3, 100.0 * in / all);
+  ASSERT_GT(wall, 0.0) << "the needle leaves the rectal lumen";
+  ASSERT_GT(gland, wall) << "then enters the gland, posteriorly (peripheral zone)";
+  EXPECT_LE(prefire, wall + 1e-3) << "the gun is fired from the rectal wall: the stroke punctures it";
+  EXPECT_TRUE(prostate.inside(g.entry + tip * g.direction)) << "the tip stops inside the gland";
+  EXPECT_GT(in, all / 2) << "most of the notch lies in the gland";
 }
 
 }  // namespace
