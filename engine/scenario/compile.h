@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "engine/model/model.h"
-#include "engine/scenario/scenario_spec.h"
+#include "engine/spec/scenario_spec.h"
 #include "engine/step/stages.h"
 
 namespace ps {

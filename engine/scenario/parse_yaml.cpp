@@ -7,7 +7,7 @@
 #include <set>
 #include <sstream>
 
-#include "engine/scenario/yaml_reader.h"
+#include "engine/spec/yaml_reader.h"
 #include "engine/tools/needle_spec_yaml.h"
 #include "engine/tools/filling_parse.h"
 #include "engine/tools/probe_parse.h"
