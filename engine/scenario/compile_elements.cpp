@@ -1,9 +1,11 @@
-// Elements stage of compile_scenario (after the surfaces, which both use): the strain model's
-// clusters and the tet model's elements with what they change in the shape-memory term.
+// Elements stage of compile_scenario (after the surfaces, which all use): the strain model's
+// clusters, the tet model's elements and the shell model's membranes, with what they change in
+// the shape-memory term.
 #include <string>
 #include <vector>
 
 #include "engine/model/discrete_coordinates.h"
+#include "engine/model/shell_elements.h"
 #include "engine/model/strain_clusters.h"
 #include "engine/model/tet_elements.h"
 #include "engine/scenario/compile_stages.h"
@@ -14,7 +16,8 @@ void compile_elements(const ScenarioSpec& spec, Model& m, CompileWork& work) {
   const int n = m.particle_count();
   const auto& strain = work.strain;
   const auto& tet = work.tet;
-  const bool any_strain = work.any_strain, any_tet = work.any_tet;
+  const auto& shell = work.shell;
+  const bool any_strain = work.any_strain, any_tet = work.any_tet, any_shell = work.any_shell;
   auto& warnings = work.warnings;
   auto& notes = work.notes;
   if (any_strain)  // after the surfaces: the clusters' consistency condition uses them
@@ -26,11 +29,15 @@ void compile_elements(const ScenarioSpec& spec, Model& m, CompileWork& work) {
         const int oc = m.find_component(other);
         if (oc >= 0 && m.components[oc].surface >= 0) excluded[ci].push_back(m.components[oc].surface);
       }
+    // links between two tet components, or a tet component and a shell (the tissue around a wall
+    // reaches it through elements spanning the gap, of the tet side's material)
     std::vector<TetLink> tet_links;
     for (const LinkSpec& l : spec.links) {
       const int a = m.find_component(l.a), b = m.find_component(l.b);
-      if (a >= 0 && b >= 0 && tet[m.components[a].first_particle].mu > 0.0 && tet[m.components[b].first_particle].mu > 0.0)
-        tet_links.push_back(TetLink{a, b, l.distance});
+      if (a < 0 || b < 0) continue;
+      const int pa = m.components[a].first_particle, pb = m.components[b].first_particle;
+      const bool ta = tet[pa].mu > 0.0, tb = tet[pb].mu > 0.0;
+      if ((ta && tb) || (ta && shell[pb].mu > 0.0) || (tb && shell[pa].mu > 0.0)) tet_links.push_back(TetLink{a, b, l.distance});
     }
     // dropping slivers and hull elements is by design (tet_elements.cpp): a note, not a warning
     for (auto& w : build_tet_elements(m, tet, excluded, tet_links))
@@ -46,6 +53,14 @@ void compile_elements(const ScenarioSpec& spec, Model& m, CompileWork& work) {
     bool dropped = false;
     for (int p = 0; p < n; ++p)
       if (m.shape_memory[p] && m.tets.node_slot[p] >= 0 && !(m.k_e[p] > 0.0)) { m.shape_memory[p] = 0; dropped = true; }
+    if (dropped) compute_discrete_coordinates(m);
+  }
+  if (any_shell) {  // after the surfaces: the shells are their faces
+    build_shell_elements(m, shell);
+    // the elements carry the wall's stiffness (k_e = 0): no attractor to evaluate
+    bool dropped = false;
+    for (int p = 0; p < n; ++p)
+      if (m.shape_memory[p] && shell[p].mu > 0.0 && !(m.k_e[p] > 0.0)) { m.shape_memory[p] = 0; dropped = true; }
     if (dropped) compute_discrete_coordinates(m);
   }
   m.any_shape_memory = false;

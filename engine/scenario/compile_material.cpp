@@ -28,18 +28,24 @@ void component_materials(const ScenarioSpec& spec, Model& m, CompileWork& work) 
   auto& any_strain = work.any_strain;
   auto& tet = work.tet;
   auto& any_tet = work.any_tet;
+  work.shell.assign(n, ShellParticle{});
+  auto& shell = work.shell;
+  auto& any_shell = work.any_shell;
   for (size_t ci = 0; ci < spec.components.size(); ++ci) {
     const ComponentSpec& cs = spec.components[ci];
     const MaterialSpec& mat = find_material(spec, cs.material);
     const Component& comp = m.components[ci];
     double volume = 0.0;
     for (const auto& f : faces_of[ci]) volume += m.rest_pos[f[0]].dot(m.rest_pos[f[1]].cross(m.rest_pos[f[2]])) / 6.0;
+    if (mat.shell_model && cs.volumetric)
+      throw InputError(spec.file, mat.loc.line, "materials." + mat.name + ".model",
+                       "model: shell is for membranes, '" + cs.name + "' is volumetric (give it fill: surface)");
     if (!cs.volumetric) {
-      // membrane: mass of a shell one spacing thick
+      // membrane: mass of a wall one spacing thick (paper model) or of the shell's own thickness
       double area = 0.0;
       for (const auto& f : faces_of[ci])
         area += 0.5 * (m.rest_pos[f[1]] - m.rest_pos[f[0]]).cross(m.rest_pos[f[2]] - m.rest_pos[f[0]]).norm();
-      volume = area * cs.spacing;
+      volume = area * (mat.shell_model ? *mat.thickness : cs.spacing);
     }
     volume -= excluded_volume[ci];  // the organs inside a fat block are not fat
     if (!(volume > 0.0))
@@ -47,6 +53,14 @@ void component_materials(const ScenarioSpec& spec, Model& m, CompileWork& work) 
     const double pm = mat.density * volume / comp.particle_count;
     StrainParticle sp;
     TetParticle tp;
+    ShellParticle shp;
+    if (mat.shell_model) {
+      const double nu = mat.poisson ? *mat.poisson : mat.incompressible ? kStrainPoissonIncompressible : kStrainPoissonDefault;
+      shp.mu = strain_moduli(*mat.young, nu).mu;
+      shp.poisson = nu;
+      shp.thickness = *mat.thickness;
+      any_shell = true;
+    }
     if (mat.tet_model) {
       if (!cs.volumetric)
         throw InputError(spec.file, mat.loc.line, "materials." + mat.name + ".model",
@@ -74,10 +88,10 @@ void component_materials(const ScenarioSpec& spec, Model& m, CompileWork& work) 
       any_strain = true;
     }
     const double ke = mat.k_e               ? *mat.k_e
-                      : mat.tet_model       ? 0.0  // the elements carry the whole stiffness
+                      : mat.tet_model || mat.shell_model ? 0.0  // the elements carry the whole stiffness
                       : mat.strain_model    ? strain_shape_memory_stiffness(sp.mu, cs.spacing)
                                             : shape_memory_stiffness(*mat.young, cs.spacing);
-    if (!mat.k_e && !mat.strain_model && !mat.tet_model && comp.kind != ComponentKind::Rigid && (cs.spacing < kCalibratedSpacingMin || cs.spacing > kCalibratedSpacingMax))
+    if (!mat.k_e && !mat.strain_model && !mat.tet_model && !mat.shell_model && comp.kind != ComponentKind::Rigid && (cs.spacing < kCalibratedSpacingMin || cs.spacing > kCalibratedSpacingMax))
       warnings.push_back("component '" + cs.name + "': spacing " + std::to_string(cs.spacing * 1e3) +
                          " mm is outside the 4-10 mm range where the E -> k_e mapping was calibrated");
     for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p) {
@@ -88,6 +102,7 @@ void component_materials(const ScenarioSpec& spec, Model& m, CompileWork& work) 
       m.damping[p] = mat.damping;
       strain[p] = sp;
       tet[p] = tp;
+      shell[p] = shp;
     }
   }
 }
@@ -95,6 +110,7 @@ void component_materials(const ScenarioSpec& spec, Model& m, CompileWork& work) 
 void apply_overrides(const ScenarioSpec& spec, Model& m, CompileWork& work) {
   auto& strain = work.strain;
   auto& tet = work.tet;
+  auto& shell = work.shell;
   for (size_t oi = 0; oi < spec.overrides.size(); ++oi) {
     const OverrideSpec& o = spec.overrides[oi];
     const int ci = m.find_component(o.component);
@@ -103,7 +119,9 @@ void apply_overrides(const ScenarioSpec& spec, Model& m, CompileWork& work) {
     for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p) {
       if (!o.region.contains(m.rest_pos[p])) continue;
       ++hits;
-      if (o.young && tet[p].mu > 0.0) {
+      if (o.young && shell[p].mu > 0.0) {
+        shell[p].mu = strain_moduli(*o.young, shell[p].poisson).mu;
+      } else if (o.young && tet[p].mu > 0.0) {
         const double nu = tet[p].lambda / (2.0 * (tet[p].lambda + tet[p].mu));
         const StrainModuli sm = strain_moduli(*o.young, nu);
         tet[p].mu = sm.mu;

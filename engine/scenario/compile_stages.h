@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/model/model.h"
+#include "engine/model/shell_elements.h"
 #include "engine/model/strain_clusters.h"
 #include "engine/model/tet_elements.h"
 #include "engine/spec/scenario_spec.h"
@@ -25,6 +26,8 @@ struct CompileWork {
   bool any_strain = false;
   std::vector<TetParticle> tet;                           // [particle] tet-model material (mu = 0: none)
   bool any_tet = false;
+  std::vector<ShellParticle> shell;                       // [particle] shell-model material (mu = 0: none)
+  bool any_shell = false;
   std::vector<std::string> warnings, notes;               // for CompileReport and Model::compile_warnings
 };
 
@@ -32,7 +35,7 @@ struct CompileWork {
 // particles of every component, contiguous per component: rest_pos, component_of, on_surface,
 // components; work.nbrs, faces_of, excluded_volume (compile_particles.cpp)
 void compile_particles(const ScenarioSpec& spec, Model& m, CompileWork& work);
-// mass, k_e, k_c, k_f, damping; work.strain, tet; then overrides: (faces_of, excluded_volume)
+// mass, k_e, k_c, k_f, damping; work.strain, tet, shell; then overrides: (faces_of, excluded_volume)
 // (compile_material.cpp)
 void compile_material(const ScenarioSpec& spec, Model& m, CompileWork& work);
 // inv_mass, shape_memory, locked_axes; rigid_bodies (mass) (compile_rigid_bodies.cpp)
@@ -44,7 +47,7 @@ void compile_neighbours(const ScenarioSpec& spec, Model& m, CompileWork& work);
 void compile_constraints(const ScenarioSpec& spec, Model& m);
 // surfaces with rest volumes (work.faces_of) (compile_surfaces.cpp)
 void compile_surfaces(const ScenarioSpec& spec, Model& m, const CompileWork& work);
-// strain clusters and tet elements (surfaces, work.strain, tet); any_shape_memory
+// strain clusters, tet and shell elements (surfaces, work.strain, tet, shell); any_shape_memory
 // (compile_elements.cpp)
 void compile_elements(const ScenarioSpec& spec, Model& m, CompileWork& work);
 // fibre_pairs of active components (nbr) (compile_fibres.cpp)

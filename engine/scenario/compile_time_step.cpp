@@ -7,6 +7,7 @@
 #include <limits>
 #include <random>
 
+#include "engine/model/shell_elements.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/compile_stages.h"
 #include "engine/scenario/size_estimate.h"
@@ -24,6 +25,7 @@ double estimate_stable_dt(const Model& m, TetPass pass) {
   for (int p = 0; p < n; ++p)
     any |= ((m.shape_memory[p] || (!m.tets.node_slot.empty() && m.tets.node_slot[p] >= 0)) && m.inv_mass[p] > 0.0);
   any |= m.strain.count() > 0;
+  any |= m.shells.triangle_count() > 0;
   if (!any) return std::numeric_limits<double>::infinity();
   State s = make_state(m);
   std::vector<Vec3> v(n), w(n);
@@ -45,6 +47,7 @@ double estimate_stable_dt(const Model& m, TetPass pass) {
     if (others) add_shape_memory_forces(m, s);
     if (others && m.strain.count() > 0) add_strain_memory_forces(m, s, 50);  // R converged at each probe
     if (m.tets.count() > 0) add_tet_elastic_forces(m, s, pass);
+    if (others && m.shells.triangle_count() > 0) add_shell_elastic_forces(m, s);
     double wn = 0.0;
     for (int p = 0; p < n; ++p) {
       for (int a = 0; a < 3; ++a) w[p][a] = free_axis(p, a) ? -s.f[p][a] * m.inv_mass[p] / eps : 0.0;
@@ -125,6 +128,24 @@ std::vector<double> stiffness_proxy(const Model& m, bool fast_only) {
       const int p = te.v[4 * t + i];
       d[p] += te.vol0[t] * (te.mu[t] + te.node_kappa[te.node_slot[p]]) * gi[i].squaredNorm();
     }
+  }
+  // shell triangles: A0 t (2 mu + lambda) |g_i|^2 per vertex (g_1, g_2 the rows of Dm^-1, g_0 minus
+  // their sum); hinges: k_h |d theta / d x_i|^2 at rest
+  const ShellElements& sh = m.shells;
+  for (int t = 0; t < sh.triangle_count(); ++t) {
+    const double* B = &sh.bm[4 * t];
+    const double k = sh.area_t[t] * (2.0 * sh.mu[t] + sh.lambda[t]);
+    const double g1 = B[0] * B[0] + B[1] * B[1], g2 = B[2] * B[2] + B[3] * B[3];
+    const double g0 = (B[0] + B[2]) * (B[0] + B[2]) + (B[1] + B[3]) * (B[1] + B[3]);
+    d[sh.tri[3 * t]] += k * g0;
+    d[sh.tri[3 * t + 1]] += k * g1;
+    d[sh.tri[3 * t + 2]] += k * g2;
+  }
+  for (int h = 0; h < sh.hinge_count(); ++h) {
+    const int* v = &sh.hinge[4 * h];
+    Vec3 g[4];
+    hinge_angle(m.rest_pos[v[0]], m.rest_pos[v[1]], m.rest_pos[v[2]], m.rest_pos[v[3]], g);
+    for (int i = 0; i < 4; ++i) d[v[i]] += sh.k_hinge[h] * g[i].squaredNorm();
   }
   return d;
 }
