@@ -2,7 +2,9 @@
 // section headless and writes, per needle, force_depth_<name>.csv (one row per tick), and
 // needle_events.csv, seeds.csv (planned vs actual), cores.csv (biopsy notch contents), and the
 // session's training metrics and score, metrics.json (engine/metrics, docs/metrics.md), with the
-// one-page report.png (app/session_report.h).
+// one-page report.png (app/session_report.h): the very session report of `run --report` and
+// `replay --report` (app/session_capture.h: same capture, same writer, same format), of a scene
+// made of the needles alone (insert simulates no probe and no filling).
 // Parses, compiles and builds the needles first: bad input exits 2 before anything is written.
 #include <spdlog/spdlog.h>
 
@@ -11,14 +13,13 @@
 #include <filesystem>
 
 #include "app/commands.h"
-#include "app/session_report.h"
-#include "engine/io/png_write.h"
+#include "app/session_capture.h"
 #include "engine/metrics/metrics_json.h"
-#include "engine/metrics/metrics_options.h"
+#include "engine/realtime/lockstep.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
+#include "engine/sim/scene.h"
 #include "engine/tools/needle_output.h"
-#include "engine/util/atomic_file.h"
 #include "engine/util/error.h"
 
 namespace ps::app {
@@ -42,37 +43,32 @@ void add_insert_command(CLI::App& app, Runner& run) {
   sub->add_option("--session", args->session, "session name recorded in metrics.json (default: the output folder's name)");
   sub->callback([args, &run] {
     run = [args]() -> int {
-      const ScenarioSpec spec = parse_scenario_file(args->scenario);
-      auto model = compile_scenario(spec);
-      auto tool = make_needle_tool(model, spec.needles);
-      if (!tool) throw InputError(spec.file, 0, "needles", "the scenario has no needles: section");
-      NeedleTool& needles = *tool;
-      SessionMetrics metrics(*model, needles, metrics_options_for(spec));
-      for (const auto& w : model->compile_warnings) spdlog::warn("warning: {}", w);
+      // A scene of the needles alone (insert runs no probe and no filling, as it always has), fed
+      // through the same lock-step runner and session capture as `run --report` and
+      // `replay --report`, so insert writes the same session report: metrics.json with its score,
+      // report.png (3D view, force-depth plots, numbers) and the CSVs.
+      Scene scene;
+      scene.spec = parse_scenario_file(args->scenario);
+      scene.model = compile_scenario(scene.spec);
+      auto tool = make_needle_tool(scene.model, scene.spec.needles);
+      if (!tool) throw InputError(scene.spec.file, 0, "needles", "the scenario has no needles: section");
+      const NeedleTool& needles = *tool;
+      for (const auto& w : scene.model->compile_warnings) spdlog::warn("warning: {}", w);
       for (const auto& w : needles.warnings()) spdlog::warn("warning: {}", w);
-      Simulation sim(model);
-      sim.add_tool(std::move(tool));
-      ForceDepthRecorder rec(needles.count());
-      const double duration = args->duration > 0 ? args->duration : model->duration;
-      const long ticks = std::lround(duration / model->dt);
-      bool ok = true;
-      for (long i = 0; i < ticks && ok; ++i) {
-        ok = sim.tick();
-        rec.sample(needles, sim.state().time);
-        metrics.observe(needles, sim.state());
-      }
-      std::filesystem::create_directories(args->out);
+      scene.sim = std::make_unique<Simulation>(scene.model);
+      scene.sim->add_tool(std::move(tool));
+      scene.needle_tool = 0;
+      const Model& model = *scene.model;
+      auto capture = SessionCapture::make(scene);  // throws on a target outside the scene: before anything is written
+      const double duration = args->duration > 0 ? args->duration : model.duration;
+      const int64_t ticks = std::llround(duration / model.dt);
+      LockstepRunner runner(*scene.sim);
+      runner.add_source(capture.get());
+      const bool ok = runner.advance_to(ticks);
+      const Score score = capture->write(args->out, !ok, args->trainee, args->session);
+      const SessionReport report = capture->report(!ok);
       const std::string dir = args->out + "/";
-      for (int i = 0; i < needles.count(); ++i) write_force_depth_csv(dir + "force_depth_" + needles.spec(i).name + ".csv", rec.samples(i));
-      write_file_atomic(dir + "needle_events.csv", needle_events_csv(needles, *model));
-      write_file_atomic(dir + "seeds.csv", seeds_csv(needles));
-      write_file_atomic(dir + "cores.csv", cores_csv(needles));
-      const SessionReport report = metrics.finish(needles, sim.state(), !ok);
-      const Score score = score_session(report);
-      const std::string session = !args->session.empty() ? args->session : std::filesystem::path(args->out).lexically_normal().filename().string();
-      write_file_atomic(dir + "metrics.json", metrics_json(report, score, {args->trainee, session}));
-      const RgbImage page = render_session_report(*model, sim.state(), needles, rec, report, score);
-      write_png_atomic(dir + "report.png", page.width, page.height, 3, page.pixels.data());
+      const ForceDepthRecorder& rec = capture->force_depth();
       for (int i = 0; i < needles.count(); ++i) {
         const ForceDepthMetrics m = force_depth_metrics(rec.samples(i), 0.0, 1.0);
         std::printf("%s: peak %.3f N at %.2f mm, final %.3f N at %.2f mm\n", needles.spec(i).name.c_str(), m.peak_force,
@@ -82,7 +78,7 @@ void add_insert_command(CLI::App& app, Runner& run) {
         if (e.kind == NeedleEventKind::Puncture || e.kind == NeedleEventKind::BoneHit || e.kind == NeedleEventKind::Core ||
             e.kind == NeedleEventKind::ForceClamped)
           std::printf("  t=%.4f s %s %s %s depth %.2f mm force %.3f N\n", e.time, needles.spec(e.needle).name.c_str(),
-                      needle_event_name(e.kind), e.component >= 0 ? model->components[e.component].name.c_str() : "-",
+                      needle_event_name(e.kind), e.component >= 0 ? model.components[e.component].name.c_str() : "-",
                       1e3 * e.depth, e.force);
       const NeedleCouplingStats& cs = needles.coupling();
       std::printf("needle-tissue coupling: largest stability bound G h^2 %.3g (budget %.3g), springs softened in %lld substeps\n",
@@ -90,7 +86,7 @@ void add_insert_command(CLI::App& app, Runner& run) {
       std::printf("score %.1f / 100; targeting %s\n", score.value, han_scale_text(report.mean_error).c_str());
       std::printf("wrote %s{force_depth_<needle>.csv,needle_events.csv,seeds.csv,cores.csv,metrics.json,report.png}\n", dir.c_str());
       if (!ok) {
-        spdlog::error("error: simulation stopped: {}", sim.state().fault.describe(*model));
+        spdlog::error("error: simulation stopped: {}", runner.runner().fault_text());
         return kExitFault;
       }
       return kExitOk;

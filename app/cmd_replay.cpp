@@ -12,6 +12,8 @@
 // `--report DIR [--trainee T] [--session S]`: the session report at the end (metrics.json with
 // its score, report.png, force-depth and event CSVs; app/session_capture.h), fed after every
 // tick, outside the step.
+// `--state FILE`: start from a saved state of this scenario (engine/realtime/state_file.h) at its
+// tick, the recording's or script's commands before it skipped; bad or foreign file: exit 2.
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -30,7 +32,7 @@ namespace {
 ReplayFrames g_frames;
 
 struct ReplayArgs {
-  std::string scenario, recording, script, save_on_fault, inject;
+  std::string scenario, recording, script, save_on_fault, inject, state;
   std::string report, trainee, session;
   bool hash_only = false, no_watchdog = false;
   double duration = -1.0;
@@ -59,6 +61,12 @@ int replay(const ReplayArgs& a) {
   }
   if (a.duration > 0) end_tick = static_cast<int64_t>(std::llround(a.duration / m.dt));
   const FaultInjection inject = parse_fault_injection(a.inject);
+  SavedState start_state;
+  if (!a.state.empty()) {
+    if (!a.report.empty()) throw InputError(a.state, 0, "--state", "--report covers a session from the scenario's start; not with --state");
+    start_state = read_state_file(a.state);
+    check_state_matches(start_state, scene.spec.name, scene.content_hash);
+  }
   std::unique_ptr<SessionCapture> capture;
   if (!a.report.empty()) {
     capture = SessionCapture::make(scene);
@@ -75,6 +83,12 @@ int replay(const ReplayArgs& a) {
   if (!a.no_watchdog) runner.runner().set_watchdog(&watchdog);
   runner.runner().keep_last_good(true);
   if (inject.tick >= 0) runner.runner().inject_fault(inject.tick, 0, inject.internal);
+  if (!a.state.empty()) {
+    runner.runner().load_state(start_state);  // the player skips to the state's tick
+    if (!a.hash_only)
+      std::printf("loaded %s: tick %lld, t=%.4g s, state hash %s\n", a.state.c_str(), static_cast<long long>(start_state.tick),
+                  start_state.time, hex16(start_state.state_hash).c_str());
+  }
   int rc = kExitOk;
   if (g_frames.run && g_frames.wanted && g_frames.wanted()) {
     ReplaySession session{scene, runner, end_tick, a.scenario};
@@ -138,6 +152,8 @@ void add_replay_command(CLI::App& app, Runner& run) {
       ->check(CLI::PositiveNumber);
   sub->add_option("--save-on-fault", a->save_on_fault, "when the physics faults, write the last good state to FILE (atomically)");
   sub->add_flag("--no-watchdog", a->no_watchdog, "do not check energy growth, volume drift and particles leaving the scene each tick");
+  sub->add_option("--state", a->state, "start from a saved state (--save-on-fault, the window's Save state) of this scenario")
+      ->check(CLI::ExistingFile);
   sub->add_option("--inject-fault", a->inject, "")->group("");  // test hook: nan@TICK or throw@TICK
   sub->add_option("--report", a->report, "session report folder: metrics.json (score), report.png, force-depth CSVs");
   sub->add_option("--trainee", a->trainee, "trainee name recorded in metrics.json");

@@ -1,5 +1,6 @@
 // `prostatesim run SCENARIO [--script F] [--record FILE] [--headless] [--duration S] [--hash]
-//                           [--factor X] [--unpaced] [--report DIR [--trainee T] [--session S]]`
+//                           [--factor X] [--unpaced] [--report DIR [--trainee T] [--session S]]
+//                           [--state FILE]`
 // Runs the scene on the real-time physics thread (engine/realtime/physics_loop.h). With a
 // registered window frontend and a display (and no --headless) the trainee window drives it;
 // otherwise it runs headless for --duration (default: the script's, else the scenario's).
@@ -14,6 +15,11 @@
 // --save-on-fault FILE, and the exit code is 3. The window shows the fault and offers to save
 // the last good state and to restart. An exception on the physics thread (a bug) is caught there
 // and reported as an internal error (exit 4), after the recording is finished.
+// --state FILE goes on from a saved state (engine/realtime/state_file.h) of this very scenario
+// file: the run starts at the state's tick, the script's commands before it are skipped, and
+// --duration stays the simulated time at which the run ends. A state of another scenario (or of
+// an edited file) or a damaged one exits 2 naming the file, line and field; not with --record or
+// --report (they cover a session from the start).
 #include <spdlog/spdlog.h>
 
 #include <cmath>
@@ -36,7 +42,7 @@ namespace {
 WindowFrontend g_window = nullptr;
 
 struct RunArgs {
-  std::string scenario, script, record, device = "auto", probe_device = "none", save_on_fault, inject;
+  std::string scenario, script, record, device = "auto", probe_device = "none", save_on_fault, inject, state;
   std::string report, trainee, session;
   bool headless = false, hash_only = false, unpaced = false, no_watchdog = false;
   double duration = -1.0, factor = 1.0;
@@ -89,6 +95,15 @@ int run_live(const RunArgs& a) {
   double duration = a.duration;
   if (duration <= 0 && !windowed) duration = script && script->duration > 0 ? script->duration : m.duration;
   const int64_t end_tick = duration > 0 ? static_cast<int64_t>(std::llround(duration / m.dt)) : -1;
+
+  // --state FILE: go on from a saved state (read and checked before anything runs)
+  SavedState start_state;
+  if (!a.state.empty()) {
+    if (!a.record.empty() || !a.report.empty())
+      throw InputError(a.state, 0, "--state", "--record and --report cover a session from the scenario's start; not with --state");
+    start_state = read_state_file(a.state);
+    check_state_matches(start_state, scene.spec.name, scene.content_hash);
+  }
 
   std::unique_ptr<SessionCapture> capture;
   if (!a.report.empty()) {
@@ -152,13 +167,19 @@ int run_live(const RunArgs& a) {
   if (!a.no_watchdog) loop.set_watchdog(&watchdog);
   loop.keep_last_good(true);
   if (inject.tick >= 0) loop.inject_fault(inject.tick, 0, inject.internal);
+  if (!a.state.empty()) {
+    loop.load_state(start_state);
+    if (!a.hash_only)
+      std::printf("loaded %s: tick %lld, t=%.4g s, state hash %s\n", a.state.c_str(), static_cast<long long>(start_state.tick),
+                  start_state.time, hex16(start_state.state_hash).c_str());
+  }
   if (!a.hash_only)
     std::printf("%s: %d particles, tick %.3g ms x %d substeps, %s%s\n", scene.spec.name.c_str(), m.particle_count(), m.dt * 1e3,
                 m.substeps, windowed ? "window" : "headless", end_tick >= 0 ? (", " + std::to_string(end_tick) + " ticks").c_str() : "");
   loop.start();
   int rc = kExitOk;
   if (windowed) {
-    RunSession session{scene, loop, script.get(), end_tick, a.scenario, mouse.get(), device.get()};
+    RunSession session{scene, loop, script.get(), end_tick, a.scenario, mouse.get(), device.get(), rec != nullptr};
     rc = g_window(session);
   } else {
     loop.wait_for_tick(end_tick);
@@ -225,6 +246,8 @@ void add_run_command(CLI::App& app, Runner& run) {
       ->capture_default_str();
   sub->add_option("--save-on-fault", a->save_on_fault, "when the physics faults, write the last good state to FILE (atomically)");
   sub->add_flag("--no-watchdog", a->no_watchdog, "do not check energy growth, volume drift and particles leaving the scene each tick");
+  sub->add_option("--state", a->state, "go on from a saved state (--save-on-fault, the window's Save state) of this scenario")
+      ->check(CLI::ExistingFile);
   // test hook: a NaN injected into particle 0 before tick N (nan@N) or an exception (throw@N)
   sub->add_option("--inject-fault", a->inject, "")->group("");
   sub->add_option("--report", a->report, "session report folder: metrics.json (score), report.png, force-depth CSVs");

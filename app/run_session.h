@@ -34,6 +34,7 @@ struct RunSession {
   // (--device spacemouse) or a script drives the needle.
   haptics::MouseKeyboardDevice* mouse = nullptr;
   haptics::DeviceSource* device = nullptr;  // status() after a disconnect, active needle
+  bool records = false;            // --record: the session is recorded from its start (no state loads)
 };
 // Runs the window's event loop until it closes; returns the exit code. The loop is stopped,
 // the recording finished and the hash printed by cmd_run afterwards.

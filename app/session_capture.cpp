@@ -92,7 +92,8 @@ Score SessionCapture::write(const std::string& dir, bool faulted, const std::str
   Snapshot end;
   snapshot_of(*scene_.sim, end);
   views.view3d = render_3d_view(scene_, end, r, 800, 600, views.note3d);
-  if (scene_.probe_tool < 0) views.note_us = "no probe in this scenario: no ultrasound image";
+  if (scene_.probe_tool < 0 && scene_.spec.probe) views.note_us = "the probe is not simulated in this run (insert: needles only)";
+  else if (scene_.probe_tool < 0) views.note_us = "no probe in this scenario: no ultrasound image";
   else if (shots_used_ == 0) views.note_us = "no puncture and no core in this session";
   // in time order (a replaced slot may hold a later event than the next one)
   std::array<int, kPunctureShots> order{};

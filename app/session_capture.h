@@ -39,6 +39,8 @@ class SessionCapture : public CommandSource {
   // Writes metrics.json, report.png, force_depth_<needle>.csv, needle_events.csv, seeds.csv,
   // cores.csv into `dir` (created). Returns the score.
   Score write(const std::string& dir, bool faulted, const std::string& trainee, const std::string& session) const;
+  // The force-versus-depth samples so far (one series per needle).
+  const ForceDepthRecorder& force_depth() const { return *rec_; }
 
  private:
   explicit SessionCapture(const Scene& scene);

@@ -142,6 +142,35 @@ EditResult EditorCommands::set_fill_rate_ml_s(int i, double v) {
 }
 EditResult EditorCommands::set_max_fill_rate_ml_s(double v) { return doc_.set_number("filling.max_rate_ml_s", v); }
 
+EditResult EditorCommands::add_filling() {
+  if (!spec() || !doc_.model()) return refused("filling", "the scenario is invalid: fix it first");
+  if (spec()->filling) return refused("filling", "the scenario has a filling: section already");
+  const Model& m = *doc_.model();
+  int pick = -1;
+  for (size_t c = 0; c < m.components.size(); ++c) {
+    const int si = m.components[c].surface;
+    if (si < 0 || !m.surfaces[static_cast<size_t>(si)].volume_constrained) continue;
+    if (pick < 0 || m.components[c].name == "bladder") pick = static_cast<int>(c);
+  }
+  if (pick < 0) return refused("filling", "no organ has a volume constraint (incompressible: true): nothing can be filled");
+  const double rest_ml = 1e6 * m.surfaces[static_cast<size_t>(m.components[static_cast<size_t>(pick)].surface)].rest_volume;
+  char ml[64];
+  std::snprintf(ml, sizeof ml, "%.10g", rest_ml);  // the rest volume itself, not a rounding of it
+  return doc_.set("filling", "{max_rate_ml_s: 5, schedule: [{component: " + m.components[static_cast<size_t>(pick)].name +
+                                 ", target_ml: " + ml + ", ramp_s: [0, 1]}]}");
+}
+
+EditResult EditorCommands::add_probe(const std::string& mount) {
+  if (mount != "needle_guide" && mount != "template" && mount != "none")
+    return refused("probe", "mount '" + mount + "' is not needle_guide, template or none");
+  if (!spec()) return refused("probe", "the scenario is invalid: fix it first");
+  if (spec()->probe) return refused("probe", "the scenario has a probe: section already");
+  std::string v = "{radius_mm: 10, length_mm: 45, entry_mm: [0, -30.6, -32], axis: [0, 0, 1], anterior: [0, 1, 0], pose: {insertion_mm: 40}";
+  if (mount == "needle_guide") v += ", needle_guide: {angle_deg: 20, back_mm: 15}";
+  if (mount == "template") v += ", template: {distance_mm: 30, pitch_mm: 5, cols: 13, rows: 13, first_row_mm: 10}";
+  return doc_.set("probe", v + "}");
+}
+
 EditResult EditorCommands::set_probe_pose(const std::string& field, double v) {
   if (field != "insertion_mm" && field != "roll_deg" && field != "tilt_deg" && field != "yaw_deg")
     return refused("probe.pose." + field, "not a pose field (insertion_mm, roll_deg, tilt_deg, yaw_deg)");

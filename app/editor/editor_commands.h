@@ -58,8 +58,22 @@ class EditorCommands {
   EditResult set_fill_rate_ml_s(int segment, double ml_s);
   EditResult set_max_fill_rate_ml_s(double ml_s);
 
+  // Adds a `filling:` section to a scenario without one: the bladder (else the first organ with a
+  // volume constraint, incompressible: true) held at its rest volume (one segment, target_ml =
+  // its rest volume over ramp_s [0, 1]) under the default rate limit (5 ml/s); the instructor then
+  // sets the volume and rate with the fields above. Refused naming "filling" when the section
+  // exists or no organ can be filled.
+  EditResult add_filling();
+
   // --- probe start pose: insertion_mm, roll_deg, tilt_deg, yaw_deg ---
   EditResult set_probe_pose(const std::string& field, double value);
+  // Adds a `probe:` section to a scenario without one: the shipped scenes' TRUS probe (radius
+  // 10 mm, length 45 mm, anal entry [0, -30.6, -32] mm of the default anatomy, axis +z, anterior
+  // +y, inserted 40 mm) with `mount`: "needle_guide" (biopsy: 20 deg, 15 mm back), "template"
+  // (brachytherapy: 13 x 13 holes, 5 mm pitch, 30 mm from the entry) or "none". Validated like any
+  // edit (a start pose outside the rectum is refused naming probe.pose). Refused naming "probe"
+  // when the section exists.
+  EditResult add_probe(const std::string& mount = "needle_guide");
 
   // --- needle plan ---
   // Brachytherapy: a needle through template hole (col, row) at the probe's start pose, inserted

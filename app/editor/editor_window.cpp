@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "app/editor/editor_commands.h"
+#include "app/editor/view_drag.h"
 #include "engine/io/png_write.h"
 #include "engine/realtime/lockstep.h"
 #include "engine/tools/needle.h"
@@ -41,16 +42,6 @@ double number_or(const std::string& t, double fallback) {
   const double v = std::strtod(t.c_str(), &end);
   return end == t.c_str() ? fallback : v;
 }
-
-// What the 3D view shows beside the tissue and can drag: a lesion / target region, or a needle's
-// target point.
-struct Handle {
-  enum Kind { Region, Target } kind = Region;
-  std::string name;                // tag or needle
-  Vec3 pos_mm = Vec3::Zero();
-  double radius_mm = 0.0;
-  bool lesion = false;
-};
 
 struct Preview {
   std::unique_ptr<Scene> scene;
@@ -80,10 +71,7 @@ struct Ui {
   double seed_depth[64] = {};
   std::string status;              // last save / open message
   bool status_error = false;
-  std::string selected;            // handle name
-  Handle::Kind selected_kind = Handle::Region;
-  bool dragging = false;
-  Vec3 drag_mm = Vec3::Zero();     // offset of the dragged handle [mm]
+  ViewDrag drag;                   // picking and dragging handles in the 3D view (view_drag.h)
   bool orbiting = false;
 };
 
@@ -106,15 +94,6 @@ void vec_field(FieldErrors& errs, const char* label, const std::string& key, con
     errs.note(key, apply(Vec3(v[0], v[1], v[2])));
   const std::string m = errs.for_key(key);
   if (!m.empty()) ImGui::TextColored(kRed, "  %s", m.c_str());
-}
-
-std::vector<Handle> handles(const EditorCommands& c) {
-  std::vector<Handle> out;
-  for (const RegionView& r : c.regions()) out.push_back({Handle::Region, r.tag, r.center_mm, r.size_mm.maxCoeff(), r.lesion});
-  if (c.spec())
-    for (const NeedleSpec& n : c.spec()->needles.needles)
-      if (n.target) out.push_back({Handle::Target, n.name, 1e3 * *n.target, 1.5, false});
-  return out;
 }
 
 // Rebuilds the preview scene (and its renderer when the model changed) from the document.
@@ -155,16 +134,6 @@ void rebuild(Preview& p, const EditorCommands& c, Ui& ui) {
     p.runner.reset();
     p.renderer.reset();
   }
-}
-
-// Screen position of a world point [m] in the 3D view (ImGui pixels), false behind the camera.
-bool project(const render::Camera& cam, float vx, float vw, float vh, const Vec3& x, ImVec2& out, float* px_per_m = nullptr) {
-  const Eigen::Matrix4f m = cam.projection(vw / vh) * cam.view();
-  const Eigen::Vector4f c = m * Eigen::Vector4f(static_cast<float>(x.x()), static_cast<float>(x.y()), static_cast<float>(x.z()), 1.0f);
-  if (c.w() <= 1e-6f) return false;
-  out = ImVec2(vx + (c.x() / c.w() * 0.5f + 0.5f) * vw, (1.0f - (c.y() / c.w() * 0.5f + 0.5f)) * vh);
-  if (px_per_m) *px_per_m = static_cast<float>(vh / (2.0 * c.w() * std::tan(cam.fov_y_deg * 3.14159265358979 / 360.0)));
-  return true;
 }
 
 void write_screenshot(const std::string& path, int fbw, int fbh, int& rc) {
@@ -278,8 +247,8 @@ void organ_panel(EditorCommands& c, FieldErrors& errs, Ui& ui) {
 void lesion_panel(EditorCommands& c, FieldErrors& errs, Ui& ui) {
   for (const RegionView& r : c.regions()) {
     ImGui::PushID(r.tag.c_str());
-    const bool sel = ui.selected == r.tag && ui.selected_kind == Handle::Region;
-    if (ImGui::Selectable((r.tag + (r.lesion ? "  (lesion)" : "")).c_str(), sel)) { ui.selected = r.tag; ui.selected_kind = Handle::Region; }
+    const bool sel = ui.drag.selected() == r.tag && ui.drag.selected_kind() == Handle::Region;
+    if (ImGui::Selectable((r.tag + (r.lesion ? "  (lesion)" : "")).c_str(), sel)) ui.drag.select(r.tag, Handle::Region);
     vec_field(errs, "centre [mm]", r.key + ".center_mm", r.center_mm, [&](const Vec3& v) { return c.move_region(r.tag, v); });
     vec_field(errs, r.kind == RegionSpec::Sphere ? "radius [mm]" : r.kind == RegionSpec::Box ? "half size [mm]" : "radii [mm]", r.key,
               r.size_mm, [&](const Vec3& v) { return c.resize_region(r.tag, r.kind == RegionSpec::Sphere ? Vec3::Constant(v.x()) : v); });
@@ -330,6 +299,17 @@ void fill_probe_panel(EditorCommands& c, FieldErrors& errs) {
       const std::string key = std::string("probe.pose.") + f;
       number_field(errs, f, key, number_or(c.doc().value_text(key), 0.0), [&](double v) { return c.set_probe_pose(f, v); });
     }
+  }
+  // a missing section is added with defaults (EditorCommands::add_filling / add_probe)
+  if (s && !s->filling && ImGui::Button("Add bladder filling")) errs.note("filling", c.add_filling());
+  if (s && !s->probe) {
+    if (ImGui::Button("Add probe (biopsy guide)")) errs.note("probe", c.add_probe("needle_guide"));
+    ImGui::SameLine();
+    if (ImGui::Button("Add probe (template)")) errs.note("probe", c.add_probe("template"));
+  }
+  for (const char* k : {"filling", "probe"}) {  // refusals of the add buttons (field errors show at their fields)
+    const auto it = errs.all().find(k);
+    if (it != errs.all().end()) ImGui::TextColored(kRed, "  %s", it->second.c_str());
   }
 }
 
@@ -518,7 +498,7 @@ int run_editor(const EditorArgs& a) {
         if (c.spec()) {
           if (ImGui::CollapsingHeader("Organs and materials", ImGuiTreeNodeFlags_DefaultOpen)) organ_panel(c, errs, ui);
           if (ImGui::CollapsingHeader("Lesions and targets", ImGuiTreeNodeFlags_DefaultOpen)) lesion_panel(c, errs, ui);
-          if ((c.spec()->filling || c.spec()->probe) && ImGui::CollapsingHeader("Bladder and probe", ImGuiTreeNodeFlags_DefaultOpen))
+          if (ImGui::CollapsingHeader("Bladder and probe", ImGuiTreeNodeFlags_DefaultOpen))
             fill_probe_panel(c, errs);
           if (ImGui::CollapsingHeader("Needle plan", ImGuiTreeNodeFlags_DefaultOpen)) needle_panel(c, errs, ui);
           if (ImGui::CollapsingHeader("Preview", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -549,41 +529,14 @@ int run_editor(const EditorArgs& a) {
       std::vector<Handle> hs = cmds ? handles(*cmds) : std::vector<Handle>{};
       ImDrawList* fg = ImGui::GetForegroundDrawList();
       const bool in_view = !io.WantCaptureMouse && io.MousePos.x > vx;
+      const ViewRect vr{vx, 0.0f, vw, vh};
       if (pv.renderer) {
-        if (in_view && ImGui::IsMouseClicked(0)) {
-          float best = 18.0f;
-          ui.dragging = false;
-          ui.orbiting = true;
-          for (const Handle& h : hs) {
-            ImVec2 p;
-            float ppm = 0;
-            if (!project(cam, vx, vw, vh, 1e-3 * h.pos_mm, p, &ppm)) continue;
-            const float r = std::max(6.0f, static_cast<float>(1e-3 * h.radius_mm) * ppm);
-            const float d = std::hypot(p.x - io.MousePos.x, p.y - io.MousePos.y);
-            if (d < std::max(best, r)) { best = d; ui.selected = h.name; ui.selected_kind = h.kind; ui.dragging = true; ui.orbiting = false; }
-          }
-          ui.drag_mm = Vec3::Zero();
-        }
-        if (ImGui::IsMouseDown(0) && ui.dragging) {
-          // the view plane through the handle: camera right and up, scaled by its distance
-          const Eigen::Matrix4f v = cam.view();
-          const Vec3 right(v(0, 0), v(0, 1), v(0, 2)), up(v(1, 0), v(1, 1), v(1, 2));
-          for (const Handle& h : hs)
-            if (h.name == ui.selected && h.kind == ui.selected_kind) {
-              const double dist = (1e-3 * h.pos_mm - cam.eye).norm();
-              const double m_per_px = 2.0 * dist * std::tan(cam.fov_y_deg * 3.14159265358979 / 360.0) / vh;
-              ui.drag_mm += 1e3 * m_per_px * (io.MouseDelta.x * right - io.MouseDelta.y * up);
-            }
-        } else if (ui.dragging && ImGui::IsMouseReleased(0)) {
-          ui.dragging = false;
-          if (cmds && ui.drag_mm.norm() > 0.05)
-            for (const Handle& h : hs)
-              if (h.name == ui.selected && h.kind == ui.selected_kind) {
-                const Vec3 to = (h.pos_mm + ui.drag_mm).array().round().matrix();  // whole mm
-                if (h.kind == Handle::Region) errs.note("tags[" + h.name + "]", cmds->move_region(h.name, to));
-                else errs.note("needles.instruments[" + h.name + "].target_mm", cmds->set_needle_target(h.name, to));
-              }
-          ui.drag_mm = Vec3::Zero();
+        // the same ViewDrag calls as tests/editor/view_drag_test.cpp
+        if (in_view && ImGui::IsMouseClicked(0)) ui.orbiting = !(cmds && ui.drag.press(*cmds, cam, vr, io.MousePos.x, io.MousePos.y));
+        if (ImGui::IsMouseDown(0) && ui.drag.dragging()) {
+          if (cmds) ui.drag.move(*cmds, cam, vr, io.MouseDelta.x, io.MouseDelta.y);
+        } else if (ui.drag.dragging() && ImGui::IsMouseReleased(0)) {
+          if (cmds) ui.drag.release(*cmds, errs);
         }
         if (!ImGui::IsMouseDown(0)) ui.orbiting = false;
         if (in_view) {
@@ -593,11 +546,11 @@ int run_editor(const EditorArgs& a) {
           if (io.MouseWheel != 0.0f) ui.orbit.zoom(std::pow(0.9, io.MouseWheel));
         }
         for (const Handle& h : hs) {
-          const bool sel = h.name == ui.selected && h.kind == ui.selected_kind;
-          const Vec3 at = 1e-3 * (h.pos_mm + (sel && ui.dragging ? ui.drag_mm : Vec3::Zero()));
+          const bool sel = h.name == ui.drag.selected() && h.kind == ui.drag.selected_kind();
+          const Vec3 at = 1e-3 * (h.pos_mm + (sel && ui.drag.dragging() ? ui.drag.offset_mm() : Vec3::Zero()));
           ImVec2 p;
           float ppm = 0;
-          if (!project(cam, vx, vw, vh, at, p, &ppm)) continue;
+          if (!project(cam, vr, at, p.x, p.y, &ppm)) continue;
           const ImU32 col = sel ? IM_COL32(255, 230, 60, 255) : h.kind == Handle::Target ? IM_COL32(255, 80, 80, 255) : IM_COL32(80, 255, 120, 255);
           if (h.kind == Handle::Region) fg->AddCircle(p, std::max(6.0f, static_cast<float>(1e-3 * h.radius_mm) * ppm), col, 32, sel ? 3.0f : 1.5f);
           else {

@@ -1,6 +1,7 @@
 #include "app/gui/session.h"
 
 #include "engine/tools/needle.h"
+#include "engine/util/error.h"
 
 namespace ps::gui {
 
@@ -12,7 +13,7 @@ void Session::make_renderer() {
 }
 
 Session::Session(app::RunSession& run)
-    : file_(run.scenario_path), scene_(&run.scene), loop_(&run.loop), mouse_(run.mouse), end_tick_(run.end_tick) {
+    : file_(run.scenario_path), scene_(&run.scene), loop_(&run.loop), mouse_(run.mouse), end_tick_(run.end_tick), run_records_(run.records) {
   make_renderer();
 }
 
@@ -62,6 +63,15 @@ std::span<const SnapshotEvent> Session::new_events() const {
 void Session::pause(bool p) {
   if (p) loop_->pause();
   else loop_->resume();
+}
+
+SavedState Session::load_state(const std::string& path) {
+  if (recording() || run_records_)
+    throw InputError(path, 0, "", "this session is being recorded from its start: stop recording before loading a state");
+  SavedState st = read_state_file(path);
+  check_state_matches(st, scene_->spec.name, scene_->content_hash);
+  loop_->load_state(st);
+  return st;
 }
 
 void Session::push(Command c) {

@@ -37,6 +37,10 @@ class Session {
 
   void pause(bool p);
   void restart() { loop_->reset(); }
+  // Goes on from a saved state file of this scenario (PhysicsLoop::load_state). Returns the state
+  // loaded; throws InputError naming the file, line and field (another scenario, a damaged file,
+  // a session being recorded: a recording covers a session from its start), nothing changed.
+  SavedState load_state(const std::string& path);
 
   bool has_probe() const { return scene_->probe_tool >= 0; }
   ProbePose initial_probe_pose() const { return scene_->spec.probe ? scene_->spec.probe->pose : ProbePose{}; }
@@ -67,6 +71,7 @@ class Session {
   int64_t end_tick_ = -1;
   std::unique_ptr<render::Renderer> renderer_;
   bool fresh_ = false;
+  bool run_records_ = false;       // the borrowed run writes a recording (--record)
 };
 
 }  // namespace ps::gui

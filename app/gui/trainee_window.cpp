@@ -45,12 +45,57 @@ struct Ui {
   float speed_mm_s = 5.0f;        // advance speed [mm/s]
   float insertion_mm = 0, roll_deg = 0, tilt_deg = 0, yaw_deg = 0;
   char open_path[512] = {};
+  char state_path[512] = {};      // saved state to load (filled by "Save last good state")
   std::string error;              // last load error (file:line:field)
   std::deque<std::string> log;    // event log (newest last)
   std::vector<float> depth_mm, force_n;  // force-versus-depth of the active needle
   double frame_ms = 0.0;
   bool dragging_l = false, dragging_r = false;
   double mx = 0, my = 0;
+};
+
+// Test hook PROSTATESIM_CLICKS="Label one;Label two": clicks those buttons in turn, each as soon
+// as it is shown, by feeding ImGui the mouse of a user (moved onto the button, pressed, released
+// over it: three frames), so a test drives the very code of a click. Each click is printed.
+struct ClickScript {
+  std::vector<std::string> labels;
+  size_t next = 0;
+  int phase = 0;                  // 0 move onto it, 1 press, 2 release
+  bool seen = false;              // the next button was drawn in the last frame
+  ImVec2 at;
+  explicit ClickScript(const char* spec) {
+    for (std::string rest = spec ? spec : ""; !rest.empty();) {
+      const size_t k = rest.find(';');
+      if (k > 0) labels.push_back(rest.substr(0, k));
+      rest = k == std::string::npos ? "" : rest.substr(k + 1);
+    }
+  }
+  // after the platform backend's NewFrame, before ImGui::NewFrame (overrides the real pointer)
+  void feed(ImGuiIO& io) {
+    if (next >= labels.size() || !seen) return;
+    io.MousePos = at;
+    io.MouseDown[0] = phase == 1;
+    if (phase == 2) {
+      std::printf("click: %s\n", labels[next].c_str());
+      std::fflush(stdout);
+      ++next;
+      seen = false;
+      phase = 0;
+    } else {
+      ++phase;
+    }
+  }
+  // ImGui::Button that notes where the scripted click must land
+  bool button(const char* label) {
+    const bool pressed = ImGui::Button(label);
+    if (next < labels.size() && labels[next] == label && ImGui::IsItemVisible()) {
+      const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+      at = ImVec2(0.5f * (a.x + b.x), 0.5f * (a.y + b.y));
+      seen = true;
+    }
+    return pressed;
+  }
+  bool done() const { return next >= labels.size(); }
 };
 
 // The live biplane TRUS images: a worker thread forms them from snapshots (ultrasound_worker.h),
@@ -245,6 +290,7 @@ int run_window(app::RunSession& run) {
     ImGui_ImplOpenGL3_Init("#version 330");
 
     Ui ui;
+    ClickScript clicks(std::getenv("PROSTATESIM_CLICKS"));
     UsPanel us;  // destroyed at the end of this block, while the GL context is still current
     ui.help = std::getenv("PROSTATESIM_HELP") != nullptr;
     const double factor = run.loop.factor();
@@ -277,6 +323,7 @@ int run_window(app::RunSession& run) {
       glfwPollEvents();
       ImGui_ImplOpenGL3_NewFrame();
       ImGui_ImplGlfw_NewFrame();
+      clicks.feed(io);
       ImGui::NewFrame();
       Session& s = *session;
 
@@ -368,6 +415,22 @@ int run_window(app::RunSession& run) {
           pending_log = "recording to " + pending_record + " from a fresh start";
         }
       }
+      // a saved state of this scenario (`run --save-on-fault`, "Save last good state" below)
+      ImGui::InputTextWithHint("##state", "saved state file (.state)", ui.state_path, sizeof ui.state_path);
+      ImGui::SameLine();
+      if (clicks.button("Load state")) {
+        try {
+          const SavedState st = s.load_state(ui.state_path);
+          ui.error.clear();
+          push_log(ui, "loaded state " + std::string(ui.state_path) + " (tick " + std::to_string(st.tick) + ")");
+          std::printf("loaded state %s: tick %lld, state hash %s\n", ui.state_path, static_cast<long long>(st.tick),
+                      hex16(st.state_hash).c_str());
+        } catch (const std::exception& e) {
+          ui.error = e.what();  // nothing changed: the scene runs on
+          push_log(ui, std::string("load state failed: ") + e.what());
+          std::fprintf(stderr, "error: %s\n", e.what());
+        }
+      }
       ImGui::Separator();
       if (s.has_probe()) {
         ImGui::Text("Probe pose");
@@ -429,21 +492,6 @@ int run_window(app::RunSession& run) {
         ImGui::Text("tick rate %.0f Hz   real-time factor %.2f%s", t.achieved_hz, t.realtime_factor, t.slow_motion ? " (slow motion)" : "");
         ImGui::Text("tick compute p50 %.2f ms  p99 %.2f ms", t.tick_p50_ms, t.tick_p99_ms);
         ImGui::Text("frame %.1f ms (%.0f fps)", ui.frame_ms, ui.frame_ms > 0 ? 1000.0 / ui.frame_ms : 0.0);
-        if (snap.faulted) {  // recovery (issue 14): the physics stopped; save the last good state, restart
-          ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "FAULT: %s", snap.fault.data());
-          SavedState st;
-          if (ImGui::Button("Save last good state") && s.loop().last_good_state(st)) {
-            const std::string path = s.name() + "-tick" + std::to_string(st.tick) + ".state";
-            try {
-              app::save_fault_state(path, st, s.scene());
-              push_log(ui, "last good state saved to " + path);
-            } catch (const std::exception& e) {
-              push_log(ui, std::string("save failed: ") + e.what());
-            }
-          }
-          ImGui::SameLine();
-          if (ImGui::Button("Restart scene")) { s.restart(); reset_view(ui, s); push_log(ui, "restarted after a fault"); }
-        }
       }
       if (ImGui::CollapsingHeader("Events", ImGuiTreeNodeFlags_DefaultOpen)) {
         ImGui::BeginChild("log", ImVec2(0, 0), true);
@@ -453,6 +501,41 @@ int run_window(app::RunSession& run) {
       }
       ImGui::End();
       if (ui.help) help_overlay(ui);
+      if (snap.faulted) {
+        // recovery (issue 14): the physics stopped; shown over the 3D view, where the trainee
+        // looks: save the last good state (loadable with "Load state" or `run --state`), restart
+        ImGui::SetNextWindowPos(ImVec2(kLeftPanel + 20, 40));
+        ImGui::SetNextWindowSize(ImVec2(std::max(300.0f, ds.x - kLeftPanel - kRightPanel - 40), 0));
+        ImGui::SetNextWindowBgAlpha(0.92f);
+        ImGui::Begin("Simulation fault", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "The physics stopped: %s", snap.fault.data());
+        ImGui::PopTextWrapPos();
+        SavedState st;
+        if (clicks.button("Save last good state")) {
+          if (!s.loop().last_good_state(st)) {
+            push_log(ui, "no last good state kept");
+          } else {
+            const std::string path = s.name() + "-tick" + std::to_string(st.tick) + ".state";
+            try {
+              app::save_fault_state(path, st, s.scene());
+              push_log(ui, "last good state saved to " + path);
+              std::snprintf(ui.state_path, sizeof ui.state_path, "%s", path.c_str());
+            } catch (const std::exception& e) {
+              push_log(ui, std::string("save failed: ") + e.what());
+              std::fprintf(stderr, "error: %s\n", e.what());
+            }
+          }
+        }
+        ImGui::SameLine();
+        if (clicks.button("Restart scene")) {
+          s.restart();
+          reset_view(ui, s);
+          push_log(ui, "restarted after a fault");
+          std::printf("restarted after a fault\n");
+        }
+        ImGui::End();
+      }
 
       // --- 3D view: mouse in the middle area ---
       const float vx = kLeftPanel, vw = std::max(1.0f, ds.x - kLeftPanel - kRightPanel), vh = ds.y;

@@ -7,8 +7,12 @@
 // real-time factor, frame time), view (presets, organ opacity, displacement colours, force
 // arrows), help overlay with the bindings; open a scenario, restart, pause, record. A scenario
 // that fails to compile is shown (file:line:field) and the last good scene keeps running.
-// Test hook: PROSTATESIM_SCREENSHOT=FILE saves the window (panels included) as a PNG when it
-// closes (with `run --duration S` it closes by itself at the end).
+// A simulation fault is shown over the 3D view with "Save last good state" and "Restart scene";
+// "Load state" (instruments panel) goes on from a saved state file of the scenario.
+// Test hooks: PROSTATESIM_SCREENSHOT=FILE saves the window (panels included) as a PNG when it
+// closes (with `run --duration S` it closes by itself at the end); PROSTATESIM_CLICKS="A;B"
+// clicks the buttons labelled A, then B, as soon as each is shown, through ImGui's mouse input
+// (tests/app/window_recovery_test.cpp).
 #pragma once
 #include "app/run_session.h"
 

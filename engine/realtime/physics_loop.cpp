@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "engine/util/error.h"
+
 namespace ps {
 
 namespace {
@@ -86,6 +88,44 @@ bool PhysicsLoop::last_good_state(SavedState& out) const {
   if (!have_fault_state_) return false;
   out = fault_state_;
   return true;
+}
+
+void PhysicsLoop::load_state(const SavedState& st) {
+  std::lock_guard<std::mutex> one(load_mu_);  // one load at a time
+  load_req_ = &st;
+  load_error_ = nullptr;
+  if (!running() || !thread_.joinable()) {
+    do_load();
+  } else {
+    load_step_.store(1, std::memory_order_release);
+    while (load_step_.load(std::memory_order_acquire) != 2 && running() && !internal_error())
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (load_step_.load(std::memory_order_acquire) != 2) {
+      load_step_.store(0, std::memory_order_release);
+      throw InputError(st.file, 0, "", "the physics thread stopped before the state was loaded");
+    }
+  }
+  load_step_.store(0, std::memory_order_release);
+  load_req_ = nullptr;
+  if (load_error_) std::rethrow_exception(load_error_);
+}
+
+void PhysicsLoop::do_load() {
+  try {
+    runner_.load_state(*load_req_);
+  } catch (...) {
+    load_error_ = std::current_exception();
+    return;
+  }
+  {
+    std::lock_guard<std::mutex> g(fault_mu_);
+    fault_text_.clear();
+    have_fault_state_ = false;
+  }
+  tick_.store(runner_.tick(), std::memory_order_release);
+  faulted_.store(false, std::memory_order_release);
+  skipped_unread_ = false;
+  publish();  // readers see the loaded state at once (before start(): start() publishes again)
 }
 
 LoopTiming PhysicsLoop::timing() const {
@@ -183,6 +223,12 @@ void PhysicsLoop::thread_loop() {
       publish();
       anchor_wall = wall_s();
       anchor_tick = 0;
+    }
+    if (load_step_.load(std::memory_order_acquire) == 1) {
+      do_load();
+      load_step_.store(2, std::memory_order_release);
+      anchor_wall = wall_s();
+      anchor_tick = runner_.tick();
     }
     const bool stepping = step_requests_.load(std::memory_order_acquire) > 0;
     const bool at_stop = opt_.stop_at_tick >= 0 && runner_.tick() >= opt_.stop_at_tick;

@@ -19,6 +19,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <exception>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -86,6 +87,13 @@ class PhysicsLoop {
   bool paused() const { return paused_.load(std::memory_order_acquire); }
   void single_step(int n = 1) { step_requests_.fetch_add(n, std::memory_order_acq_rel); }
   void reset() { reset_requested_.store(true, std::memory_order_release); }
+  // Goes on from a saved state (TickRunner::load_state; check_state_matches first). Blocks the
+  // caller (never the physics) until the physics thread has loaded it between two ticks, or
+  // loads it at once when the thread is not running. The fault, if any, is cleared; a paused
+  // loop stays paused. Throws InputError (file, field) with nothing changed when it does not fit.
+  void load_state(const SavedState& st);
+  // The current state (the owner, while the loop is stopped: `run` at the end).
+  void current_state(SavedState& out) { runner_.current_state(out); }
   void set_factor(double f);       // clamped to [1e-3, 100]
   double factor() const { return factor_.load(std::memory_order_relaxed); }
 
@@ -151,6 +159,12 @@ class PhysicsLoop {
   std::string fault_text_;
   SavedState fault_state_;
   bool have_fault_state_ = false;
+  // a saved state to load (UI thread -> physics thread): 0 none, 1 asked, 2 done
+  std::mutex load_mu_;
+  std::atomic<int> load_step_{0};
+  const SavedState* load_req_ = nullptr;
+  std::exception_ptr load_error_;
+  void do_load();                  // the physics thread, between ticks
 };
 
 }  // namespace ps

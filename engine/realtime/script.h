@@ -68,6 +68,10 @@ class CommandPlayer final : public CommandSource {
     while (next_ < cmds_.size() && cmds_[next_].tick <= tick) apply.apply(cmds_[next_++], tick);
   }
   void rewind() override { next_ = 0; }
+  void seek(int64_t tick) override {
+    next_ = 0;
+    while (next_ < cmds_.size() && cmds_[next_].tick < tick) ++next_;
+  }
   const std::vector<Command>& commands() const { return cmds_; }
   int64_t last_tick() const { return cmds_.empty() ? 0 : cmds_.back().tick; }
 

@@ -39,6 +39,7 @@ SavedState read_state_file(const std::string& path) {
 
 SavedState parse_state_text(const std::string& text, const std::string& path) {
   SavedState s;
+  s.file = path;
   size_t pos = 0;
   auto next_line = [&](int ln, const char* key) {
     const size_t e = text.find('\n', pos);
@@ -84,6 +85,15 @@ SavedState parse_state_text(const std::string& text, const std::string& path) {
   if (saved_state_hash(s.bytes) != s.state_hash)
     throw InputError(path, 7, "state_hash", "the saved bytes do not match their hash (the file is damaged)");
   return s;
+}
+
+void check_state_matches(const SavedState& s, const std::string& name, uint64_t scenario_hash) {
+  if (s.scenario != name)
+    throw InputError(s.file, 3, "scenario", "a saved state of scenario '" + s.scenario + "', not of '" + name + "'");
+  if (s.scenario_hash != scenario_hash)
+    throw InputError(s.file, 4, "scenario_hash",
+                     "saved from scenario file content " + hex16(s.scenario_hash) + ", this file is " + hex16(scenario_hash) +
+                         ": the scenario file differs");
 }
 
 }  // namespace ps

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "engine/util/error.h"
+
 namespace ps {
 
 TickRunner::TickRunner(Simulation& sim, size_t queue_capacity)
@@ -34,13 +36,13 @@ bool TickRunner::last_good(SavedState& out) const {
 
 bool TickRunner::step(StageProbe* probe) {
   if (faulted_) return false;
-  for (CommandSource* s : sources_) s->poll(tick_, sim_, applier_);
-  applier_.apply_due(queue_, tick_);
-  if (keep_good_) {  // after the commands: restoring it and running on gives the same bits
+  if (keep_good_) {  // before the commands: the state after tick_ ticks (state_file.h); loaded and run on, the same bits
     sim_.save(good_);
     good_tick_ = tick_;
     good_time_ = sim_.state().time;
   }
+  for (CommandSource* s : sources_) s->poll(tick_, sim_, applier_);
+  applier_.apply_due(queue_, tick_);
   if (tick_ == inject_tick_) {  // once: a reset after the fault runs on clean
     inject_tick_ = -1;
     if (inject_internal_) throw std::logic_error("injected internal error at tick " + std::to_string(tick_) + " (test hook)");
@@ -84,6 +86,39 @@ void TickRunner::reset() {
   }
   for (CommandSource* s : sources_) s->rewind();
   std::fill(event_cursor_.begin(), event_cursor_.end(), 0);
+}
+
+void TickRunner::current_state(SavedState& out) {
+  sim_.save(out.bytes);
+  out.tick = tick_;
+  out.time = sim_.state().time;
+  out.state_hash = saved_state_hash(out.bytes);
+  out.fault = faulted_ ? fault_text_ : "none";
+}
+
+void TickRunner::load_state(const SavedState& st) {
+  if (saved_state_hash(st.bytes) != st.state_hash)
+    throw InputError(st.file, 7, "state_hash", "the saved bytes do not match their hash (the file is damaged)");
+  std::vector<uint8_t> before;
+  sim_.save(before);
+  try {
+    sim_.restore(st.bytes);
+  } catch (const std::exception& e) {
+    sim_.restore(before);  // nothing changed
+    throw InputError(st.file, 9, "bytes", std::string("does not fit this scenario's simulation (") + e.what() + ")");
+  }
+  tick_ = st.tick;
+  faulted_ = false;
+  fault_text_.clear();
+  Command c;
+  while (queue_.pop(c)) {
+  }
+  for (CommandSource* s : sources_) s->seek(tick_);
+  // the events already in the restored state are not news
+  std::vector<SnapshotEvent> old;
+  const auto& tools = sim_.tools();
+  for (size_t i = 0; i < tools.size(); ++i) event_cursor_[i] = tools[i]->events_since(0, static_cast<int>(i), old);
+  if (keep_good_) keep_last_good(true);
 }
 
 void TickRunner::fill_snapshot(Snapshot& out, bool keep_events, bool with_hash) {

@@ -15,6 +15,11 @@
 // Periodic state hashes: with set_hash_observer(o, n) the runner hands o the full state hash
 // after every n-th tick (recordings carry them; replay checks them and names the first tick that
 // diverges).
+// Saved states (engine/realtime/state_file.h): current_state() is the state after tick() ticks,
+// before that tick's commands; so is the last good state. load_state() goes on from one: the
+// simulation restored, tick() set to its tick, sources seek()ed there, the queue emptied, the
+// fault cleared; `replay --duration T` of the same inputs and a load of the state saved at T then
+// run on give the same bits.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -40,6 +45,10 @@ class CommandSource {
   virtual void after_tick(int64_t /*tick*/, const Simulation& /*sim*/) {}
   // Back to the start (the loop's reset).
   virtual void rewind() {}
+  // The run goes on from tick `tick` (a saved state was loaded: TickRunner::load_state): the
+  // commands stamped before it are in that state already. Default: rewind() (a device takes a
+  // new reference from where the hand is); a command list skips to its first command >= tick.
+  virtual void seek(int64_t /*tick*/) { rewind(); }
 };
 
 // Receives the full state hash after every n-th tick (TickRunner::set_hash_observer).
@@ -66,6 +75,12 @@ class TickRunner {
   bool faulted() const { return faulted_; }
   // Back to the state at construction, tick 0, sources rewound, queue emptied, fault cleared.
   void reset();
+  // The current state (between ticks) with its tick, time and hash; scenario fields left empty.
+  void current_state(SavedState& out);
+  // Goes on from a saved state of this scenario (check_state_matches first: this checks only
+  // that the bytes fit this simulation). Throws InputError naming st.file and the field at
+  // fault ("bytes", "state_hash") with the runner and the simulation unchanged.
+  void load_state(const SavedState& st);
 
   // --- recovery ---
   // Checked after every tick (must outlive the runner; null: none). A finding is a fault.

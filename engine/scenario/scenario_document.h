@@ -13,7 +13,8 @@
 // Every edit is validated before it is kept; a refused edit leaves the document unchanged and
 // says which field and why:
 //  * the scenario parser's own checks (negative stiffness, unknown keys, bad types...);
-//  * compile checks (degenerate geometry);
+//  * compile checks (degenerate geometry), and the instruments' own checks when built (needle
+//    paths, the probe's start pose in the rectum and out of bone, the filled organ's volumes);
 //  * a needle target_mm outside every organ (no tissue holds it);
 //  * overlapping lesions: two tags named *lesion* / *tumo* whose regions share particles or
 //    volume;

@@ -19,7 +19,7 @@ ScenarioSpec biopsy(int substeps, bool mass_scaling, bool paper = true, bool mul
   ScenarioSpec spec = parse_scenario_file(std::string(PROSTATESIM_SOURCE_DIR) + "/config/biopsy.yaml");
   spec.needles.needles.at(0).script = {{0.0, 0.0}, {0.06, 12e-3}};  // 200 mm/s into the wall
   if (paper)
-    for (auto& m : spec.materials) m.tet_model = false;  // model: paper (k_e from young_kpa)
+    for (auto& m : spec.materials) m.tet_model = m.shell_model = false;  // model: paper (k_e from young_kpa)
   spec.substeps = substeps;
   spec.mass_scaling = mass_scaling;
   spec.multirate = multirate;

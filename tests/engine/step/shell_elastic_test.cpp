@@ -119,40 +119,49 @@ TEST(ShellElasticForce, EquibiaxialStrainHasThePlateEnergy) {
   EXPECT_NEAR(shell_elastic_energy(*m, s), expected, 1e-9 * expected);
 }
 
-// A closed cylinder (R = 20 mm, L = 160 mm, t = 1 mm) under internal pressure p, relaxed to rest:
+// A closed cylinder (R = 15 mm, L = 105 mm, t = 1 mm) under internal pressure p, relaxed to rest:
 // away from the caps the radius grows by the thin-shell value p R^2 (1 - nu/2) / (E t) (hoop stress
-// p R / t, axial p R / 2t). Spacing 4 mm: about 30 faces around.
+// p R / t, axial p R / 2t, whatever shape the caps take). Spacing 5 mm: about 19 faces around.
 TEST(ShellElasticForce, PressurisedCylinderMatchesThinShellTheory) {
-  const double R = 20e-3, L = 160e-3, t = 1e-3, E = 20e3, nu = 0.45, p = 20.0;  // [m, m, m, Pa, -, Pa]
-  auto m = test::compile_text(shell_cylinder_yaml(R * 1e3, L * 1e3, 4, t * 1e3, E * 1e-3));
+  const double R = 15e-3, L = 105e-3, t = 1e-3, E = 20e3, nu = 0.45, p = 20.0;  // [m, m, m, Pa, -, Pa]
+  auto m = test::compile_text(shell_cylinder_yaml(R * 1e3, L * 1e3, 5, t * 1e3, E * 1e-3));
   State s = make_state(*m);
   const int n = m->particle_count();
   const auto& faces = m->surfaces[0].faces;
   std::vector<Vec3> v(n, Vec3::Zero());
-  const double h = 0.5 * m->stable_dt_estimate, keep = 0.995;  // dynamic relaxation [s], [-]
-  for (int it = 0; it < 30000; ++it) {
-    for (auto& f : s.f) f.setZero();
-    add_shell_elastic_forces(*m, s);
-    for (const auto& f : faces) {  // pressure: p x area vector / 3 on each vertex
-      const Vec3 an = 0.5 * (s.x[f[1]] - s.x[f[0]]).cross(s.x[f[2]] - s.x[f[0]]);
-      for (int i : f) s.f[i] += p * an / 3.0;
-    }
+  const double h = 0.5 * m->stable_dt_estimate, keep = 0.98;  // dynamic relaxation [s], [-]
+  auto mid_growth = [&] {
+    double sum = 0.0;
+    int count = 0;
     for (int q = 0; q < n; ++q) {
-      v[q] = keep * (v[q] + h * m->inv_mass[q] * s.f[q]);
-      s.x[q] += h * v[q];
+      const Vec3 r = m->rest_pos[q];
+      if (std::abs(r.z() - 0.5 * L) > 0.15 * L || std::abs(Vec3(r.x(), r.y(), 0).norm() - R) > 1e-6) continue;
+      sum += Vec3(s.x[q].x(), s.x[q].y(), 0).norm() - R;
+      ++count;
     }
+    EXPECT_GT(count, 10);
+    return sum / count;
+  };
+  double last = 0.0;
+  for (int round = 0; round < 40; ++round) {  // until the mid-length growth settles
+    for (int it = 0; it < 500; ++it) {
+      for (auto& f : s.f) f.setZero();
+      add_shell_elastic_forces(*m, s);
+      for (const auto& f : faces) {  // pressure: p x area vector / 3 on each vertex
+        const Vec3 an = 0.5 * (s.x[f[1]] - s.x[f[0]]).cross(s.x[f[2]] - s.x[f[0]]);
+        for (int i : f) s.f[i] += p * an / 3.0;
+      }
+      for (int q = 0; q < n; ++q) {
+        v[q] = keep * (v[q] + h * m->inv_mass[q] * s.f[q]);
+        s.x[q] += h * v[q];
+      }
+    }
+    const double now = mid_growth();
+    if (round > 2 && std::abs(now - last) < 1e-3 * std::abs(now)) break;
+    last = now;
   }
   const double expected = p * R * R * (1.0 - nu / 2.0) / (E * t);  // [m]
-  double sum = 0.0;
-  int count = 0;
-  for (int q = 0; q < n; ++q) {
-    const Vec3 r = m->rest_pos[q];
-    if (std::abs(r.z() - 0.5 * L) > 0.15 * L || std::abs(Vec3(r.x(), r.y(), 0).norm() - R) > 1e-6) continue;
-    sum += Vec3(s.x[q].x(), s.x[q].y(), 0).norm() - R;
-    ++count;
-  }
-  ASSERT_GT(count, 10);
-  const double dr = sum / count;
+  const double dr = mid_growth();
   EXPECT_NEAR(dr, expected, 0.05 * expected) << "mid-length radial growth " << dr * 1e3 << " mm, thin shell "
                                              << expected * 1e3 << " mm";
 }
