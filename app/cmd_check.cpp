@@ -1,8 +1,9 @@
 // `prostatesim check SCENARIO`: validates a scenario and prints per-component particle and
-// triplet counts, memory use and the largest stable time step.
+// triplet counts, the model hash, memory use and the largest stable time step.
 #include <cstdio>
 
 #include "app/commands.h"
+#include "engine/model/model_hash.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 
@@ -18,6 +19,10 @@ void add_check_command(CLI::App& app, Runner& run) {
       auto model = compile_scenario(parse_scenario_file(*scenario), &rep);
       const Model& m = *model;
       std::printf("%s: ok (compiled in %.3f s)\n", m.name.c_str(), rep.seconds);
+      // The compiled model's fingerprint (engine/model/model_hash.h): equal hashes mean the same
+      // particles, neighbourhoods, weights and constraints, which scripts/model_hashes.sh uses to
+      // show that a refactoring of compile_scenario changed nothing.
+      std::printf("model hash %016llx\n", static_cast<unsigned long long>(model_hash(m)));
       std::printf("%-14s %-8s %9s %10s %10s %10s\n", "component", "kind", "particles", "neighbours", "triplets", "beta_trip");
       for (const Component& c : m.components) {
         long nb = 0, tr = 0, bt = 0;

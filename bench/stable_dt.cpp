@@ -1,5 +1,5 @@
 // Empirical stability limit of the explicit step vs Model::stable_dt_estimate
-// (compile.cpp estimate_stable_dt: 2/sqrt(lambda_max(M^-1 K)) of the undamped linearisation at
+// (compile_time_step.cpp estimate_stable_dt: 2/sqrt(lambda_max(M^-1 K)) of the undamped linearisation at
 // rest, by power iteration). Every scene is compiled with damping 0 and stepped with a substep
 // of fraction * estimate, bypassing the automatic substepping (step(h) takes any h; the model's
 // dt/substeps are not used). Two regimes:

@@ -1,6 +1,6 @@
 // `prostatesim_bench --dt-profile FILE`: what sets the stable substep of a scenario file.
 // The compiler's estimate is 2/sqrt(lambda_max(M^-1 K)) of the undamped linearisation at rest
-// (compile.cpp estimate_stable_dt, power iteration). This mode runs the same power iteration
+// (compile_time_step.cpp estimate_stable_dt, power iteration). This mode runs the same power iteration
 // longer, keeps the eigenvector and prints:
 //   - the particles that carry the top mode (largest |v|), with component, tag bits, surface
 //     flag, mass, k_e, neighbours, triplets and beta triplets, and the share of the mode held by

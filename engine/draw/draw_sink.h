@@ -1,7 +1,7 @@
 // What an instrument looks like, told to whoever draws (Box2D's b2DebugDraw pattern): a tool
 // describes itself through this const interface, so render/ knows no tool internals and a new
 // tool draws without touching render/. The engine never includes GL; DrawList records the calls
-// into plain arrays that cross threads inside a Snapshot (engine/realtime/snapshot.h).
+// into plain arrays that cross threads inside a Snapshot (engine/contract/snapshot.h).
 // All positions and lengths in metres, world frame (patient RAS, see config/*.yaml).
 #pragma once
 #include <cstdint>

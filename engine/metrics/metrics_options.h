@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "engine/metrics/session_metrics.h"
-#include "engine/scenario/scenario_spec.h"
+#include "engine/spec/scenario_spec.h"
 
 namespace ps {
 

@@ -25,7 +25,7 @@
 #include <cstdint>
 #include <string>
 
-#include "engine/realtime/command.h"
+#include "engine/contract/command.h"
 #include "engine/realtime/command_queue.h"
 #include "engine/step/simulation.h"
 

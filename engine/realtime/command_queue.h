@@ -16,7 +16,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "engine/realtime/command.h"
+#include "engine/contract/command.h"
 
 namespace ps {
 

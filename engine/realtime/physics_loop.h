@@ -24,7 +24,7 @@
 #include <string>
 #include <thread>
 
-#include "engine/realtime/snapshot.h"
+#include "engine/contract/snapshot.h"
 #include "engine/realtime/tick_runner.h"
 #include "engine/realtime/triple_buffer.h"
 

@@ -37,7 +37,7 @@
 #include <thread>
 #include <vector>
 
-#include "engine/realtime/command.h"
+#include "engine/contract/command.h"
 #include "engine/realtime/command_apply.h"
 #include "engine/realtime/command_queue.h"
 #include "engine/realtime/spsc_ring.h"

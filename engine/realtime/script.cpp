@@ -7,7 +7,7 @@
 #include <map>
 #include <sstream>
 
-#include "engine/scenario/yaml_reader.h"
+#include "engine/spec/yaml_reader.h"
 #include "engine/util/error.h"
 
 namespace ps {

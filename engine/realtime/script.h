@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/realtime/command.h"
+#include "engine/contract/command.h"
 #include "engine/realtime/tick_runner.h"
 #include "engine/sim/scene.h"
 #include "engine/util/vec.h"

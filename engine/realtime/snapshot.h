@@ -1,54 +1,6 @@
-// What the physics thread publishes after a tick for readers (renderer, UI, ultrasound, metrics):
-// a self-contained copy, so a reader never touches State while physics runs. Published through a
-// lock-free triple buffer (engine/realtime/, the realtime issue); buffers are sized once and
-// reused, so publishing does not allocate once warm.
+// Moved to engine/contract/snapshot.h: the step's Tool interface (engine/step/simulation.h) uses it,
+// and step/ sits below realtime/ (docs/architecture.md, the engine's layering). This forwarding
+// header keeps code outside engine/ that names the old path building; engine/ code includes
+// the new path.
 #pragma once
-#include <array>
-#include <cstdint>
-#include <vector>
-
-#include "engine/draw/draw_sink.h"
-
-namespace ps {
-
-// One instrument's read-out for panels and plots (force-versus-depth of the active needle).
-struct ToolReadout {
-  enum Kind : uint8_t { Needle, Probe, Filling, Other } kind = Other;
-  std::array<char, 32> name{};     // tool name, NUL-terminated
-  Vec3 tip = Vec3::Zero();         // needle tip / probe tip [m]
-  Vec3 axis = Vec3::UnitZ();       // unit insertion direction
-  double depth = 0.0;              // needle: depth since first tissue contact [m]
-  double force = 0.0;              // axial tissue force on the instrument [N] (needle: resisting
-                                   // insertion is positive; probe: contact force magnitude)
-  Vec3 force_vec = Vec3::Zero();   // total tissue force on the instrument [N]
-  double value = 0.0;              // filling: current target volume [m^3]; else unused
-  bool active = false;             // the instrument the user drives now
-};
-
-// SnapshotEvent::kind of a command the tools refused (tool-specific kinds are below 255).
-inline constexpr uint8_t kSnapshotEventRefused = 255;
-
-// An event since the previous snapshot (puncture, bone hit, core, seed, fault, refused command).
-struct SnapshotEvent {
-  double time = 0.0;               // simulation time [s]
-  int tool = -1;                   // index into Snapshot::tools, -1 if none
-  uint8_t kind = 0;                // tool-specific kind (NeedleEventKind for needles)
-  Vec3 position = Vec3::Zero();    // [m]
-  double depth = 0.0;              // [m]
-  double force = 0.0;              // [N]
-  std::array<char, 96> text{};     // human-readable, NUL-terminated
-};
-
-struct Snapshot {
-  int64_t tick = 0;                // ticks completed
-  double time = 0.0;               // simulation time [s]
-  std::vector<float> x;            // 3 * particles: positions [m], float for the GPU
-  DrawList draw;                   // instrument geometry recorded by Tool::draw
-  std::vector<ToolReadout> tools;  // one per tool, in Simulation::tools() order
-  std::vector<SnapshotEvent> events;   // since the previous published snapshot
-  uint64_t state_hash = 0;         // hash of the full simulation state at this tick (0 = not computed)
-  bool faulted = false;            // physics stopped on a numerical fault
-  std::array<char, 160> fault{};   // its description (particle and time), NUL-terminated
-};
-
-}  // namespace ps
+#include "engine/contract/snapshot.h"

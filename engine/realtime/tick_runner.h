@@ -5,7 +5,7 @@
 //   2. the queue's commands stamped <= tick are applied (the UI thread's pushes);
 //   3. Simulation::tick().
 // Applied commands go to the observer (the recorder) stamped with the tick they were applied at.
-// Snapshots: fill_snapshot() copies what readers need (engine/realtime/snapshot.h).
+// Snapshots: fill_snapshot() copies what readers need (engine/contract/snapshot.h).
 //
 // Recovery (issue 14): a fault (the step's own NaN / speed / excursion check, or the optional
 // Watchdog after each tick: energy growth, volume drift, a particle leaving the scene) stops the
@@ -27,7 +27,7 @@
 
 #include "engine/realtime/command_apply.h"
 #include "engine/realtime/command_queue.h"
-#include "engine/realtime/snapshot.h"
+#include "engine/contract/snapshot.h"
 #include "engine/realtime/state_file.h"
 #include "engine/sim/watchdog.h"
 #include "engine/step/simulation.h"

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "engine/model/model.h"
-#include "engine/scenario/scenario_spec.h"
+#include "engine/spec/scenario_spec.h"
 #include "engine/step/stages.h"
 
 namespace ps {
@@ -33,7 +33,7 @@ double estimate_stable_dt(const Model& model, TetPass pass = TetPass::All);
 // the slow group's estimate (power iteration) confirms it. Returns a line for the compile report.
 std::string partition_tet_rates(Model& model, double margin);
 // solver.mass_scaling: inertial mass on the particles that set the stable substep, until the
-// model's substep dt/substeps is at most `margin` of the estimate (compile.cpp); updates
+// model's substep dt/substeps is at most `margin` of the estimate (compile_time_step.cpp); updates
 // inv_mass, damping, stable_dt_estimate, added_inertia, largest_inertia_factor.
 void scale_inertia_to_substep(Model& model, double margin);
 

@@ -7,7 +7,7 @@
 #include <set>
 #include <sstream>
 
-#include "engine/scenario/yaml_reader.h"
+#include "engine/spec/yaml_reader.h"
 #include "engine/tools/needle_spec_yaml.h"
 #include "engine/tools/filling_parse.h"
 #include "engine/tools/probe_parse.h"
@@ -21,7 +21,7 @@ constexpr double kKpa = 1e3;   // kPa -> Pa
 
 // Physical ranges of the material and discretisation keys, in the file's units. Soft tissue is
 // 0.1-100 kPa, bone ~2e7 kPa, steel 2e8 kPa; 1e-3 kPa is softer than any tissue. Whether a
-// stiff value is affordable is decided later from the stable substep (compile.cpp).
+// stiff value is affordable is decided later from the stable substep (compile_time_step.cpp).
 constexpr double kMinYoungKpa = 1e-3, kMaxYoungKpa = 1e9;  // [kPa]
 constexpr double kMaxStiffnessNm = 1e9;                    // raw k_e / k_s [N/m]
 constexpr double kMaxDamping = 1e6;                        // [1/s]

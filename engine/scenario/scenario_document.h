@@ -31,7 +31,7 @@
 #include <vector>
 
 #include "engine/model/model.h"
-#include "engine/scenario/scenario_spec.h"
+#include "engine/spec/scenario_spec.h"
 #include "engine/util/vec.h"
 
 namespace ps {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "engine/scenario/particle_set.h"
-#include "engine/scenario/scenario_spec.h"
+#include "engine/spec/scenario_spec.h"
 
 namespace ps {
 

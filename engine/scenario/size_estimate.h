@@ -4,7 +4,7 @@
 #pragma once
 #include <string>
 
-#include "engine/scenario/scenario_spec.h"
+#include "engine/spec/scenario_spec.h"
 
 namespace ps {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/scenario/scenario_spec.h"
+#include "engine/spec/scenario_spec.h"
 #include "engine/step/simulation.h"
 
 namespace ps {

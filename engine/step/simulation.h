@@ -8,8 +8,8 @@
 
 #include "engine/draw/draw_sink.h"
 #include "engine/model/model.h"
-#include "engine/realtime/command.h"
-#include "engine/realtime/snapshot.h"
+#include "engine/contract/command.h"
+#include "engine/contract/snapshot.h"
 #include "engine/state/state.h"
 #include "engine/util/state_io.h"
 
@@ -49,7 +49,7 @@ class Tool {
   virtual ~Tool() = default;
   virtual const char* name() const = 0;
   // --- live use (between ticks, on the physics thread) ---
-  // Applies a command addressed to this tool (engine/realtime/command.h). False, with the reason
+  // Applies a command addressed to this tool (engine/contract/command.h). False, with the reason
   // in `why`, when refused (the physics goes on). The default refuses everything.
   virtual bool apply(const Command&, const Model&, const State&, CommandRefusal& why) {
     why.set("this tool takes no command");
@@ -61,7 +61,7 @@ class Tool {
   virtual int find_item(const char* /*name*/) const { return -1; }
   // Saves, restores or hashes every mutable quantity (engine/util/state_io.h).
   virtual void serialize(StateIO&) {}
-  // Read-out for panels (one per tool, engine/realtime/snapshot.h). Default: the name only.
+  // Read-out for panels (one per tool, engine/contract/snapshot.h). Default: the name only.
   virtual void readout(ToolReadout&, const Model&, const State&) const {}
   // Appends the events after `cursor` (a count the tool defines) and returns the new cursor.
   virtual int64_t events_since(int64_t cursor, int /*tool_index*/, std::vector<SnapshotEvent>&) const { return cursor; }

@@ -6,8 +6,8 @@
 //     - {component: bladder, target_factor: 2, ramp_s: [0.1, 1.0]}
 //     - {component: rectum, rate_ml_s: 1, ramp_s: [0, 2]}
 #pragma once
-#include "engine/scenario/scenario_spec.h"
-#include "engine/scenario/yaml_reader.h"
+#include "engine/spec/scenario_spec.h"
+#include "engine/spec/yaml_reader.h"
 
 namespace ps {
 

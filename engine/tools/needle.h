@@ -80,7 +80,7 @@
 #include "engine/step/simulation.h"
 #include "engine/tools/needle_anchor.h"
 #include "engine/tools/needle_events.h"
-#include "engine/tools/needle_spec.h"
+#include "engine/spec/needle_spec.h"
 
 namespace ps {
 

@@ -1,5 +1,5 @@
 // The needle tool's live side (between ticks, on the physics thread): commands from devices,
-// scripts and recordings (engine/realtime/command.h), the read-out and events a snapshot
+// scripts and recordings (engine/contract/command.h), the read-out and events a snapshot
 // carries, and the walk of every mutable field (save / restore / hash, engine/util/state_io.h).
 #include <cmath>
 #include <cstdio>

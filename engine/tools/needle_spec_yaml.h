@@ -1,5 +1,5 @@
 // Reads the `needles:` section of a scenario file (engine-internal: includes yaml-cpp through
-// engine/scenario/yaml_reader.h; only parse_yaml.cpp and needle_spec_yaml.cpp include it).
+// engine/spec/yaml_reader.h; only parse_yaml.cpp and needle_spec_yaml.cpp include it).
 //
 // needles:
 //   puncture_n: {liver: 2.45}          # surface puncture weight k_c per component [N]
@@ -31,8 +31,8 @@
 //       target_mm: [5, 0, -20]          # aimed point (metrics; default: the script's planned end)
 //       planned_site: right mid lateral # planned 12-core biopsy site (metrics: zone coverage)
 #pragma once
-#include "engine/scenario/yaml_reader.h"
-#include "engine/tools/needle_spec.h"
+#include "engine/spec/yaml_reader.h"
+#include "engine/spec/needle_spec.h"
 
 namespace ps {
 

@@ -11,7 +11,7 @@
 //   tip-hemisphere centre B = P + insertion * d,  back end A = B - length * d.
 // Positive tilt swings the tip toward the prostate (anterior), positive yaw toward +l.
 #pragma once
-#include "engine/scenario/scenario_spec.h"
+#include "engine/spec/scenario_spec.h"
 #include "engine/util/vec.h"
 
 namespace ps {

@@ -1,5 +1,5 @@
 // Reader for the scenario's probe: section (called by parse_yaml.cpp). Internal to
-// the engine library: it sees yaml-cpp through engine/scenario/yaml_reader.h. Keys and units:
+// the engine library: it sees yaml-cpp through engine/spec/yaml_reader.h. Keys and units:
 // probe:
 //   radius_mm: 10              # capsule radius (default 10)
 //   length_mm: 120             # modelled shaft, tip-hemisphere centre to back end (default 120)
@@ -15,8 +15,8 @@
 //   needle_guide: {angle_deg: 20, back_mm: 15}
 //   template: {distance_mm: 30, pitch_mm: 5, cols: 13, rows: 13, first_row_mm: 10}
 #pragma once
-#include "engine/scenario/scenario_spec.h"
-#include "engine/scenario/yaml_reader.h"
+#include "engine/spec/scenario_spec.h"
+#include "engine/spec/yaml_reader.h"
 
 namespace ps {
 

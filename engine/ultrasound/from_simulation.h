@@ -11,7 +11,7 @@
 #pragma once
 #include <string>
 
-#include "engine/realtime/snapshot.h"
+#include "engine/contract/snapshot.h"
 #include "engine/step/simulation.h"
 #include "engine/tools/needle.h"
 #include "engine/tools/probe.h"

@@ -1,4 +1,4 @@
-// solver.mass_scaling (engine/scenario/compile.cpp scale_inertia_to_substep): the compiler keeps
+// solver.mass_scaling (engine/scenario/compile_time_step.cpp scale_inertia_to_substep): the compiler keeps
 // the file's substep and adds inertial mass where the stiffness sets the limit, instead of
 // raising the substep count. The scaled scene runs at that substep, gravity still pulls on the
 // physical mass.

@@ -1,5 +1,5 @@
 // Tests for engine/scenario/size_estimate.cpp and the range checks of the scenario reader
-// (engine/scenario/yaml_reader.h, parse_yaml.cpp) and of compile (substep count): every absurd
+// (engine/spec/yaml_reader.h, parse_yaml.cpp) and of compile (substep count): every absurd
 // value is refused with file:line:field before anything large is allocated.
 #include "engine/scenario/size_estimate.h"
 

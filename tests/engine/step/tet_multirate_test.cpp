@@ -1,4 +1,4 @@
-// Multi-rate tet elements (solver.multirate; engine/scenario/compile.cpp partition_tet_rates,
+// Multi-rate tet elements (solver.multirate; engine/scenario/compile_time_step.cpp partition_tet_rates,
 // engine/step/tet_elastic.cpp TetPass): a soft block with a stiff inclusion splits into a fast
 // group (the inclusion and its neighbourhood, every substep) and a slow group (once per tick, as
 // two half kicks at the tick's ends: the symmetric impulse split). The split run must stay stable, settle to the same equilibrium as the

@@ -1,6 +1,6 @@
 // Scenario keys added for the anatomy: exclude_inside (a fat block around organs), ellipsoid
 // regions, tags: and prostate_zones:, with their errors.
-#include "engine/anatomy/scene_regions.h"
+#include "engine/scenario/scene_regions.h"
 
 #include <gtest/gtest.h>
 

@@ -8,7 +8,7 @@
 
 #include "engine/model/model.h"
 #include "engine/scenario/particle_set.h"
-#include "engine/scenario/scenario_spec.h"
+#include "engine/spec/scenario_spec.h"
 
 namespace ps::anatomy {
 

@@ -1,4 +1,4 @@
-#include "engine/anatomy/scene_regions.h"
+#include "engine/scenario/scene_regions.h"
 
 #include <cstdio>
 #include <memory>

@@ -1,4 +1,4 @@
-#include "engine/tools/needle_spec.h"
+#include "engine/spec/needle_spec.h"
 
 #include <cmath>
 

@@ -1,5 +1,5 @@
 // The `needles:` section: parsing, presets, and bad input -> InputError naming the field.
-#include "engine/tools/needle_spec.h"
+#include "engine/spec/needle_spec.h"
 
 #include <gtest/gtest.h>
 
@@ -104,7 +104,7 @@ TEST(NeedleSpec, BadInputNamesTheField) {
   EXPECT_EQ(error_field(needle_with("", "[[0, 0], [1]]")), k + "script[1]");
   // gun
   EXPECT_EQ(error_field(needle_with("      gun: {fire_s: 1, duration_ms: 500}\n")), k + "gun.duration_ms");
-  // a gun without fire_s is armed and fires on a live command only (engine/realtime/command.h)
+  // a gun without fire_s is armed and fires on a live command only (engine/contract/command.h)
   EXPECT_EQ(error_field(needle_with("      gun: {stroke_mm: 20}\n")), "<no error>");
   EXPECT_EQ(error_field(needle_with("      gun: {fire_s: -1}\n")), k + "gun.fire_s");
   // typos and references

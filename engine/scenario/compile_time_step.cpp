@@ -1,0 +1,248 @@
+// Time-step stage of compile_scenario: the largest stable substep of the explicit scheme
+// (estimate_stable_dt), the multi-rate partition of the tet elements, selective mass scaling, and
+// the substep count raised (or the scene refused) so each substep is within 90% of the limit.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+
+#include "engine/model/shell_elements.h"
+#include "engine/scenario/compile.h"
+#include "engine/scenario/compile_stages.h"
+#include "engine/scenario/size_estimate.h"
+#include "engine/step/stages.h"
+#include "engine/util/error.h"
+
+namespace ps {
+
+std::vector<double> stiffness_proxy(const Model& m, bool fast_only = false);
+
+double estimate_stable_dt(const Model& m, TetPass pass) {
+  const int n = m.particle_count();
+  const bool others = pass != TetPass::SlowOnly;  // the other force stages
+  bool any = false;
+  for (int p = 0; p < n; ++p)
+    any |= ((m.shape_memory[p] || (!m.tets.node_slot.empty() && m.tets.node_slot[p] >= 0)) && m.inv_mass[p] > 0.0);
+  any |= m.strain.count() > 0;
+  any |= m.shells.triangle_count() > 0;
+  if (!any) return std::numeric_limits<double>::infinity();
+  State s = make_state(m);
+  std::vector<Vec3> v(n), w(n);
+  std::mt19937_64 rng(12345);  // fixed seed: the estimate is reproducible
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  auto free_axis = [&](int p, int a) { return m.inv_mass[p] > 0.0 && !(m.locked_axes[p] & (1u << a)); };
+  for (int p = 0; p < n; ++p)
+    for (int a = 0; a < 3; ++a) v[p][a] = free_axis(p, a) ? U(rng) : 0.0;
+  double scale = 0.0;
+  for (const Vec3& r : m.rest_pos) scale = std::max(scale, r.cwiseAbs().maxCoeff());
+  double lambda = 0.0;
+  for (int it = 0; it < 60; ++it) {
+    double norm = 0.0;
+    for (const Vec3& x : v) norm += x.squaredNorm();
+    norm = std::sqrt(norm);
+    if (!(norm > 0.0)) break;
+    const double eps = 1e-7 * std::max(scale, 1e-3) / norm;
+    for (int p = 0; p < n; ++p) { s.x[p] = m.rest_pos[p] + eps * v[p]; s.f[p].setZero(); }
+    if (others) add_shape_memory_forces(m, s);
+    if (others && m.strain.count() > 0) add_strain_memory_forces(m, s, 50);  // R converged at each probe
+    if (m.tets.count() > 0) add_tet_elastic_forces(m, s, pass);
+    if (others && m.shells.triangle_count() > 0) add_shell_elastic_forces(m, s);
+    double wn = 0.0;
+    for (int p = 0; p < n; ++p) {
+      for (int a = 0; a < 3; ++a) w[p][a] = free_axis(p, a) ? -s.f[p][a] * m.inv_mass[p] / eps : 0.0;
+      wn += w[p].squaredNorm();
+    }
+    wn = std::sqrt(wn);
+    lambda = wn / norm;  // |A v| / |v| -> |lambda_max|
+    if (!(wn > 0.0)) break;
+    for (int p = 0; p < n; ++p) v[p] = w[p] / wn;  // renormalise: no overflow
+  }
+  return lambda > 0.0 ? 2.0 / std::sqrt(lambda) : std::numeric_limits<double>::infinity();
+}
+
+// Selective mass scaling (a standard device of explicit dynamics): the particles whose
+// stiffness-to-mass ratio sets the stable substep get more inertial mass, so that the file's
+// substep h = dt / substeps is at most `margin` of the new limit. Gravity keeps acting on the
+// physical mass (forces.cpp reads Model::mass); the implicit damping v /= (1 + c h) is
+// proportional to the inertial mass, so each scaled particle's damping rate is divided by the
+// same factor and its damping force c m v is unchanged. Which particles: a per-particle stiffness
+// proxy d_p (k_e of its own attractor plus the shares of the attractors it enters, w^2 k_e, and,
+// for strain clusters, (2 mu V + lambda V) |g|^2 + k_r) gives m_p' = max(m_p, A d_p h^2 / 4); the
+// amplification A starts at 2 and grows until the power-iteration estimate of the whole scene
+// (any force stage, estimate_stable_dt) admits h. Deterministic; compile time only.
+void scale_inertia_to_substep(Model& m, double margin) {
+  const int n = m.particle_count();
+  const double h = m.dt / m.substeps;
+  if (!(m.stable_dt_estimate * margin < h)) return;
+  // with multi-rate only the fast group sets the substep: the slow elements' stiffness is left
+  // out, or the soft bulk would get inertia it does not need
+  const std::vector<double> d = stiffness_proxy(m, m.tets.multirate());
+  const std::vector<double> inv_mass0 = m.inv_mass, damping0 = m.damping;
+  double A = 2.0;
+  for (int it = 0; it < 40 && m.stable_dt_estimate * margin < h; ++it) {
+    const double want = h / margin;  // the limit the estimate must reach [s]
+    m.added_inertia = 0.0;
+    m.largest_inertia_factor = 1.0;
+    for (int p = 0; p < n; ++p) {
+      m.inv_mass[p] = inv_mass0[p];
+      m.damping[p] = damping0[p];
+      if (inv_mass0[p] == 0.0 || d[p] == 0.0) continue;
+      const double need = A * d[p] * want * want / 4.0;  // inertial mass for omega_p want <= 2 [kg]
+      if (need * inv_mass0[p] <= 1.0) continue;
+      m.inv_mass[p] = 1.0 / need;
+      m.damping[p] = damping0[p] * need * inv_mass0[p] > 0.0 ? damping0[p] / (need * inv_mass0[p]) : 0.0;
+      m.added_inertia += need - m.mass[p];
+      m.largest_inertia_factor = std::max(m.largest_inertia_factor, need * inv_mass0[p]);
+    }
+    m.stable_dt_estimate = estimate_stable_dt(m, m.tets.multirate() ? TetPass::FastOnly : TetPass::All);
+    const double r = want / m.stable_dt_estimate;
+    A *= std::max(1.05, r * r);
+  }
+}
+
+// Per-particle stiffness proxy d_p [N/m]: k_e of its own attractor plus the shares of the
+// attractors it enters (w^2 k_e), for strain clusters (2 mu V + lambda V) |g|^2 + k_r, for tet
+// elements V0 (mu + kappa) |g_i|^2 (the diagonals of the stiffness). A lone particle on a spring
+// d_p has omega^2 = d_p / m_p.
+std::vector<double> stiffness_proxy(const Model& m, bool fast_only) {
+  const int n = m.particle_count();
+  std::vector<double> d(n, 0.0);
+  for (int p = 0; p < n; ++p) {
+    if (!m.shape_memory[p]) continue;
+    d[p] += m.k_e[p];
+    for (int a = m.nbr_start[p]; a < m.nbr_start[p + 1]; ++a) d[m.nbr[a]] += m.k_e[p] * m.nbr_w[a] * m.nbr_w[a];
+  }
+  const StrainClusters& sc = m.strain;
+  for (int c = 0; c < sc.count(); ++c)
+    for (int i = sc.start[c]; i < sc.start[c + 1]; ++i)
+      d[sc.member[i]] += (sc.mu2v[c] + sc.k_v[c]) * sc.g[i].squaredNorm() + sc.k_r[c];
+  // tet elements: V0 (mu + kappa) |g_i|^2 per vertex (the diagonal of the element's stiffness)
+  // (fast_only: the multi-rate fast group's elements, those that set the substep)
+  const TetElements& te = m.tets;
+  for (int t = 0, nt = fast_only ? te.fast_count : te.count(); t < nt; ++t) {
+    const double* g = &te.g[9 * t];
+    const Vec3 g1(g[0], g[1], g[2]), g2(g[3], g[4], g[5]), g3(g[6], g[7], g[8]), g0 = -(g1 + g2 + g3);
+    const Vec3 gi[4] = {g0, g1, g2, g3};
+    for (int i = 0; i < 4; ++i) {
+      const int p = te.v[4 * t + i];
+      d[p] += te.vol0[t] * (te.mu[t] + te.node_kappa[te.node_slot[p]]) * gi[i].squaredNorm();
+    }
+  }
+  // shell triangles: A0 t (2 mu + lambda) |g_i|^2 per vertex (g_1, g_2 the rows of Dm^-1, g_0 minus
+  // their sum); hinges: k_h |d theta / d x_i|^2 at rest
+  const ShellElements& sh = m.shells;
+  for (int t = 0; t < sh.triangle_count(); ++t) {
+    const double* B = &sh.bm[4 * t];
+    const double k = sh.area_t[t] * (2.0 * sh.mu[t] + sh.lambda[t]);
+    const double g1 = B[0] * B[0] + B[1] * B[1], g2 = B[2] * B[2] + B[3] * B[3];
+    const double g0 = (B[0] + B[2]) * (B[0] + B[2]) + (B[1] + B[3]) * (B[1] + B[3]);
+    d[sh.tri[3 * t]] += k * g0;
+    d[sh.tri[3 * t + 1]] += k * g1;
+    d[sh.tri[3 * t + 2]] += k * g2;
+  }
+  for (int h = 0; h < sh.hinge_count(); ++h) {
+    const int* v = &sh.hinge[4 * h];
+    Vec3 g[4];
+    hinge_angle(m.rest_pos[v[0]], m.rest_pos[v[1]], m.rest_pos[v[2]], m.rest_pos[v[3]], g);
+    for (int i = 0; i < 4; ++i) d[v[i]] += sh.k_hinge[h] * g[i].squaredNorm();
+  }
+  return d;
+}
+
+std::string partition_tet_rates(Model& m, double margin) {
+  TetElements& te = m.tets;
+  const int n = m.particle_count(), nt = te.count();
+  if (nt == 0) return {};
+  const std::vector<double> d = stiffness_proxy(m);
+  // a particle's own limit 2 / omega_p with omega_p^2 = d_p / m_p (inertial mass); fixed ones never limit
+  std::vector<double> limit(n, std::numeric_limits<double>::infinity());
+  for (int p = 0; p < n; ++p)
+    if (m.inv_mass[p] > 0.0 && d[p] > 0.0) limit[p] = 2.0 / std::sqrt(d[p] * m.inv_mass[p]);
+  std::vector<uint8_t> slow(n, 0);
+  for (int p = 0; p < n; ++p) slow[p] = margin * limit[p] >= m.dt;
+  const std::vector<int> v0 = te.v;
+  const std::vector<double> g0 = te.g, vol00 = te.vol0, mu0 = te.mu;
+  std::string line;
+  for (int round = 0; round < 12; ++round) {
+    // order: fast elements (any vertex fast) first, each group in its original order (deterministic)
+    std::vector<int> order;
+    for (int pass = 0; pass < 2; ++pass)
+      for (int t = 0; t < nt; ++t) {
+        const int* v = &v0[4 * t];
+        const bool is_slow = slow[v[0]] && slow[v[1]] && slow[v[2]] && slow[v[3]];
+        if (is_slow == (pass == 1)) order.push_back(t);
+      }
+    int nf = 0;
+    for (int t = 0; t < nt; ++t) {
+      const int* v = &v0[4 * t];
+      nf += !(slow[v[0]] && slow[v[1]] && slow[v[2]] && slow[v[3]]);
+    }
+    for (int k = 0; k < nt; ++k) {
+      const int t = order[k];
+      for (int i = 0; i < 4; ++i) te.v[4 * k + i] = v0[4 * t + i];
+      for (int i = 0; i < 9; ++i) te.g[9 * k + i] = g0[9 * t + i];
+      te.vol0[k] = vol00[t];
+      te.mu[k] = mu0[t];
+    }
+    te.fast_count = nf;
+    if (nf == nt) return "multirate: no tet element admits the whole tick; every element runs every substep";
+    const double slow_limit = estimate_stable_dt(m, TetPass::SlowOnly);
+    if (margin * slow_limit >= m.dt) {
+      char b[200];
+      std::snprintf(b, sizeof b, "multirate: %d of %d tet elements once per tick (slow group's stable step %.3g ms)",
+                    nt - nf, nt, slow_limit * 1e3);
+      return b;
+    }
+    // the estimate does not confirm it: the stiffest tenth of the slow particles become fast
+    std::vector<std::pair<double, int>> by_limit;
+    for (int p = 0; p < n; ++p)
+      if (slow[p]) by_limit.emplace_back(limit[p], p);
+    std::sort(by_limit.begin(), by_limit.end());
+    const size_t drop = std::max<size_t>(1, by_limit.size() / 10);
+    for (size_t i = 0; i < drop && i < by_limit.size(); ++i) slow[by_limit[i].second] = 0;
+  }
+  // give up: every element every substep
+  te.v = v0; te.g = g0; te.vol0 = vol00; te.mu = mu0;
+  te.fast_count = nt;
+  return "multirate: the slow group's estimate never admitted the tick; every element runs every substep";
+}
+void compile_time_step(const ScenarioSpec& spec, Model& m, CompileWork& work) {
+  auto& warnings = work.warnings;
+  auto& notes = work.notes;
+  // stability: raise substeps so each substep is at most 90% of the estimated limit, or (with
+  // solver.mass_scaling) add inertia to the particles that set the limit
+  if (spec.multirate) notes.push_back(partition_tet_rates(m, 0.9));
+  // with multi-rate the substep is set by the fast group (the held slow force is a constant
+  // within a tick); the slow group was checked against the tick above
+  m.stable_dt_estimate = estimate_stable_dt(m, m.tets.multirate() ? TetPass::FastOnly : TetPass::All);
+  if (spec.mass_scaling) scale_inertia_to_substep(m, 0.9);
+  const double h = m.dt / m.substeps;
+  if (h > 0.9 * m.stable_dt_estimate) {
+    // In double first: a stiffness like young_kpa 1e9 gives a stable step so small that the count
+    // overflows an int (it used to wrap to -2147483648 and the run "succeeded" with 0 steps).
+    const double need_d = m.dt / (0.9 * m.stable_dt_estimate);
+    if (!(need_d <= kMaxSubstepsPerTick)) {
+      const MaterialSpec* stiff = nullptr;
+      for (const auto& mat : spec.materials) {
+        const double e = mat.young.value_or(0.0), se = stiff ? stiff->young.value_or(0.0) : -1.0;
+        if (!stiff || e > se) stiff = &mat;
+      }
+      char b[256];
+      std::snprintf(b, sizeof b,
+                    "a tick of %g ms would need %.3g substeps for stability (stable substep %.3g s; limit %d "
+                    "substeps per tick): the scene is too stiff for its tick; lower young_kpa / k_e_n_m of the "
+                    "stiffest material or time.dt_ms",
+                    m.dt * 1e3, need_d, m.stable_dt_estimate, kMaxSubstepsPerTick);
+      throw InputError(spec.file, stiff ? stiff->loc.line : 0,
+                       stiff ? "materials." + stiff->name + ".young_kpa" : std::string("time.dt_ms"), b);
+    }
+    const int need = static_cast<int>(std::ceil(need_d));
+    warnings.push_back("substeps raised from " + std::to_string(m.substeps) + " to " + std::to_string(need) +
+                       ": substep " + std::to_string(h) + " s exceeds 90% of the stable limit " +
+                       std::to_string(m.stable_dt_estimate) + " s");
+    m.substeps = need;
+  }
+}
+
+}  // namespace ps
