@@ -20,6 +20,16 @@ void* operator new(std::size_t n) {
 }
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+// The array forms too: libstdc++'s call the scalar ones, but a sanitizer runtime (ASan, TSan)
+// brings its own operator new[] that goes straight to its allocator, so without these the
+// no-allocation tests would not see arrays in the sanitizer builds (found by .ci/sanitize).
+void* operator new[](std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace ps::test {
 long allocation_count() { return g_allocations.load(std::memory_order_relaxed); }
