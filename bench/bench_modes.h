@@ -20,7 +20,7 @@ int stable_dt_study(int steps);                     // stable_dt.cpp
 int soak(int substeps);                             // soak.cpp
 int stable_dt_profile(const std::string& file);     // stable_dt_profile.cpp
 int fast_error(const std::string& scene, int substeps, int mass_scaling, int triplets, double duration,
-               int ref_substeps);  // fast_error.cpp
+               int ref_substeps, double fast_nu = 0.0);  // fast_error.cpp
 int run_ticks(const std::string& file, int ticks);  // tick_mode.cpp
 int realtime_loop(double wall_s);                   // realtime_loop.cpp
 
@@ -30,7 +30,7 @@ void reference_add_shape_memory_forces(const Model& m, State& s);
 
 // Wall time spent in each pipeline stage, summed over timed_step() calls [ns].
 struct StageTimes {
-  int64_t ns[16] = {};
+  int64_t ns[24] = {};  // indexed by Stage (engine/step/simulation.h)
 };
 // Simulation::step() for a scene without tools, stage by stage with a clock read between
 // stages (~20 ns each). Returns false on a fault, like step().

@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
   if (argc >= 3 && std::strcmp(argv[1], "--dt-profile") == 0) return ps::bench::stable_dt_profile(argv[2]);
   if (argc >= 7 && std::strcmp(argv[1], "--fast-error") == 0)
     return ps::bench::fast_error(argv[2], std::atoi(argv[3]), std::atoi(argv[4]), std::atoi(argv[5]),
-                                 std::atof(argv[6]), argc >= 8 ? std::atoi(argv[7]) : 0);
+                                 std::atof(argv[6]), argc >= 8 ? std::atoi(argv[7]) : 0,
+                                 argc >= 9 ? std::atof(argv[8]) : 0.0);
   if (argc >= 2 && std::strcmp(argv[1], "--soak") == 0) return ps::bench::soak(argc >= 3 ? std::atoi(argv[2]) : 100000);
   if (argc >= 2 && std::strcmp(argv[1], "--realtime") == 0) return ps::bench::realtime_loop(argc >= 3 ? std::atof(argv[2]) : 20.0);
   if (argc >= 4 && std::strcmp(argv[1], "--ticks") == 0) return ps::bench::run_ticks(argv[2], std::atoi(argv[3]));

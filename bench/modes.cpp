@@ -43,6 +43,9 @@ bool timed_step(Simulation& sim, double dt, StageTimes& times) {
       case Stage::ExternalForces: clear_and_add_external_forces(m, s, s.time); break;
       case Stage::ShapeMemory: add_shape_memory_forces(m, s); break;
       case Stage::StrainMemory: add_strain_memory_forces(m, s); break;
+      case Stage::TetElastic: add_tet_elastic_forces(m, s); break;  // every element (no tick here)
+      case Stage::ShellElastic: add_shell_elastic_forces(m, s); break;
+      case Stage::TetTickEnd: break;  // the All pass above already applied the slow elements
       case Stage::ActiveFibres: add_active_forces(m, s); break;
       case Stage::RigidForces: gather_rigid_forces(m, s); break;
       case Stage::Integrate: integrate(m, s, dt); break;

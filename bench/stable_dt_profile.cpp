@@ -50,6 +50,8 @@ double power_iteration(const Model& m, const std::vector<uint8_t>& mask, int ite
     for (int p = 0; p < n; ++p) { s.x[p] = m.rest_pos[p] + eps * v[p]; s.f[p].setZero(); }
     add_shape_memory_forces(m, s);
     if (m.strain.count() > 0) add_strain_memory_forces(m, s, 50);
+    if (m.tets.count() > 0) add_tet_elastic_forces(m, s);
+    if (m.shells.triangle_count() > 0) add_shell_elastic_forces(m, s);
     double wn = 0.0;
     for (int p = 0; p < n; ++p) {
       for (int a = 0; a < 3; ++a) w[p][a] = free_axis(p, a) ? -s.f[p][a] * m.inv_mass[p] / eps : 0.0;
@@ -112,7 +114,7 @@ int stable_dt_profile(const std::string& file) {
     for (int p = 0; p < n; ++p)
       if (m.component_of[p] == static_cast<int>(c)) {
         mask[p] = 1;
-        if (m.inv_mass[p] > 0 && m.shape_memory[p]) {
+        if (m.inv_mass[p] > 0) {  // element models (tet, shell) have k_e = 0: counted all the same
           kmax = std::max(kmax, m.k_e[p] * m.inv_mass[p]);
           kmean += m.k_e[p] * m.inv_mass[p];
           mmin = std::min(mmin, m.mass[p]);

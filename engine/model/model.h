@@ -160,6 +160,29 @@ struct TetElements {
   bool multirate() const { return fast_count < count(); }
 };
 
+// Shell elements of membrane components (material `model: shell`, docs/model.md "Shell model"):
+// the bladder and rectal walls as thin shells on their own surface triangulation, built once by
+// build_shell_elements (engine/model/shell_elements.cpp); the force is engine/step/shell_elastic.cpp.
+// Membrane: one co-rotational linear triangle (constant strain) per surface face, plane stress,
+// wall thickness t. Bending: one hinge per interior edge (discrete shells, Grinspun et al. 2003),
+// energy 1/2 k_h (theta - theta0)^2 with k_h = D 3 |e|^2 / (A1 + A2), D = E t^3 / (12 (1 - nu^2)).
+// Structure of arrays, rest data precomputed.
+struct ShellElements {
+  // triangles [nt]
+  std::vector<int> tri;            // [3 nt] particle indices (the surface face, outward CCW)
+  std::vector<double> bm;          // [4 nt] Dm^-1 row-major (Dm = rest edges x1-x0, x2-x0 in the
+                                   // triangle's own orthonormal 2D frame) [1/m]
+  std::vector<double> area_t;      // [nt] rest area x thickness A0 t [m^3]
+  std::vector<double> mu;          // [nt] shear modulus [Pa]
+  std::vector<double> lambda;      // [nt] plane-stress Lame lambda 2 mu lambda / (lambda + 2 mu) [Pa]
+  // hinges [nh]: edge (v[0], v[1]), opposite vertices v[2] (in the face with v0 -> v1 CCW) and v[3]
+  std::vector<int> hinge;          // [4 nh] particle indices
+  std::vector<double> theta0;      // [nh] rest dihedral angle [rad]
+  std::vector<double> k_hinge;     // [nh] bending stiffness [N m]
+  int triangle_count() const { return static_cast<int>(area_t.size()); }
+  int hinge_count() const { return static_cast<int>(theta0.size()); }
+};
+
 // Active fibre pair: contraction force along the current pair direction.
 struct FibrePair { int a, b; int component; };
 
@@ -203,6 +226,7 @@ struct Model {
   std::vector<uint8_t> shape_memory; // [n] 1 if the particle carries a shape-memory force
   StrainClusters strain;           // strain-memory clusters (empty: no `model: strain` material)
   TetElements tets;                // tet-model elements (empty: no `model: tet` material)
+  ShellElements shells;            // shell-model membranes (empty: no `model: shell` material)
   bool any_shape_memory = true;    // some particle has k_e > 0 (else the stage is left out)
 
   // named particle tags (scenario tags: and prostate_zones:, e.g. "lesion", "base", "peripheral"):

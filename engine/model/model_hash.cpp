@@ -65,6 +65,21 @@ uint64_t model_hash(const Model& m) {
     f.pod(s.rest_volume);
     f.pod(s.volume_constrained);
   }
+  // the elements' rest data and materials (an edit of a tet or shell material changes nothing above)
+  f.vec(m.tets.v);
+  f.vec(m.tets.g);
+  f.vec(m.tets.vol0);
+  f.vec(m.tets.mu);
+  f.vec(m.tets.node_kappa);
+  f.pod(m.tets.fast_count);
+  f.vec(m.shells.tri);
+  f.vec(m.shells.bm);
+  f.vec(m.shells.area_t);
+  f.vec(m.shells.mu);
+  f.vec(m.shells.lambda);
+  f.vec(m.shells.hinge);
+  f.vec(m.shells.theta0);
+  f.vec(m.shells.k_hinge);
   for (const FixedParticle& p : m.fixed) { f.pod(p.particle); f.pod(p.axes); }
   for (const ImposedDisplacement& d : m.imposed) {
     f.vec(d.particles);

@@ -118,8 +118,12 @@ std::vector<std::string> build_tet_elements(Model& m, const std::vector<TetParti
     for (int i = 0; i < 3; ++i) Dm.col(i) = m.rest_pos[v[i + 1]] - m.rest_pos[v[0]];
     const Mat3 G = Dm.inverse();  // rows g1, g2, g3
     const double vol = Dm.determinant() / 6.0;
-    double mu = 0.0;
-    for (int i : v) mu += 0.25 * mat[i].mu;  // an interface element: the mean of both sides
+    // an interface element: the mean of both sides, or of the tet side's vertices when the other
+    // side is a shell wall (mu = 0 here: its stiffness is its own elements')
+    double mu = 0.0, sum = 0.0;
+    int with_mu = 0;
+    for (int i : v) { mu += 0.25 * mat[i].mu; sum += mat[i].mu; with_mu += mat[i].mu > 0.0; }
+    if (with_mu < 4) mu = with_mu > 0 ? sum / with_mu : 0.0;
     for (int i : v) { te.v.push_back(i); node_vol[i] += 0.25 * vol; }
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) te.g.push_back(G(r, c));

@@ -29,7 +29,7 @@
 
 namespace ps {
 
-inline constexpr int kStageCount = 16;  // engine/step/simulation.h Stage values
+inline constexpr int kStageCount = 19;  // engine/step/simulation.h Stage values (TetTickEnd is the last)
 
 struct LoopTiming {
   int64_t ticks = 0;               // ticks completed since start (or reset)

@@ -9,6 +9,7 @@
 #include "engine/anatomy/scene_regions.h"
 #include "engine/model/discrete_coordinates.h"
 #include "engine/model/material.h"
+#include "engine/model/shell_elements.h"
 #include "engine/model/strain_clusters.h"
 #include "engine/model/tet_elements.h"
 #include "engine/scenario/particle_set.h"
@@ -80,6 +81,7 @@ double estimate_stable_dt(const Model& m, TetPass pass) {
   for (int p = 0; p < n; ++p)
     any |= ((m.shape_memory[p] || (!m.tets.node_slot.empty() && m.tets.node_slot[p] >= 0)) && m.inv_mass[p] > 0.0);
   any |= m.strain.count() > 0;
+  any |= m.shells.triangle_count() > 0;
   if (!any) return std::numeric_limits<double>::infinity();
   State s = make_state(m);
   std::vector<Vec3> v(n), w(n);
@@ -101,6 +103,7 @@ double estimate_stable_dt(const Model& m, TetPass pass) {
     if (others) add_shape_memory_forces(m, s);
     if (others && m.strain.count() > 0) add_strain_memory_forces(m, s, 50);  // R converged at each probe
     if (m.tets.count() > 0) add_tet_elastic_forces(m, s, pass);
+    if (others && m.shells.triangle_count() > 0) add_shell_elastic_forces(m, s);
     double wn = 0.0;
     for (int p = 0; p < n; ++p) {
       for (int a = 0; a < 3; ++a) w[p][a] = free_axis(p, a) ? -s.f[p][a] * m.inv_mass[p] / eps : 0.0;
@@ -181,6 +184,24 @@ std::vector<double> stiffness_proxy(const Model& m, bool fast_only) {
       const int p = te.v[4 * t + i];
       d[p] += te.vol0[t] * (te.mu[t] + te.node_kappa[te.node_slot[p]]) * gi[i].squaredNorm();
     }
+  }
+  // shell triangles: A0 t (2 mu + lambda) |g_i|^2 per vertex (g_1, g_2 the rows of Dm^-1, g_0 minus
+  // their sum); hinges: k_h |d theta / d x_i|^2 at rest
+  const ShellElements& sh = m.shells;
+  for (int t = 0; t < sh.triangle_count(); ++t) {
+    const double* B = &sh.bm[4 * t];
+    const double k = sh.area_t[t] * (2.0 * sh.mu[t] + sh.lambda[t]);
+    const double g1 = B[0] * B[0] + B[1] * B[1], g2 = B[2] * B[2] + B[3] * B[3];
+    const double g0 = (B[0] + B[2]) * (B[0] + B[2]) + (B[1] + B[3]) * (B[1] + B[3]);
+    d[sh.tri[3 * t]] += k * g0;
+    d[sh.tri[3 * t + 1]] += k * g1;
+    d[sh.tri[3 * t + 2]] += k * g2;
+  }
+  for (int h = 0; h < sh.hinge_count(); ++h) {
+    const int* v = &sh.hinge[4 * h];
+    Vec3 g[4];
+    hinge_angle(m.rest_pos[v[0]], m.rest_pos[v[1]], m.rest_pos[v[2]], m.rest_pos[v[3]], g);
+    for (int i = 0; i < 4; ++i) d[v[i]] += sh.k_hinge[h] * g[i].squaredNorm();
   }
   return d;
 }
@@ -307,18 +328,23 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   bool any_strain = false;
   std::vector<TetParticle> tet(n);  // tet-model material per particle (mu = 0: none)
   bool any_tet = false;
+  std::vector<ShellParticle> shell(n);  // shell-model material per particle (mu = 0: none)
+  bool any_shell = false;
   for (size_t ci = 0; ci < spec.components.size(); ++ci) {
     const ComponentSpec& cs = spec.components[ci];
     const MaterialSpec& mat = find_material(spec, cs.material);
     const Component& comp = m.components[ci];
     double volume = 0.0;
     for (const auto& f : faces_of[ci]) volume += m.rest_pos[f[0]].dot(m.rest_pos[f[1]].cross(m.rest_pos[f[2]])) / 6.0;
+    if (mat.shell_model && cs.volumetric)
+      throw InputError(spec.file, mat.loc.line, "materials." + mat.name + ".model",
+                       "model: shell is for membranes, '" + cs.name + "' is volumetric (give it fill: surface)");
     if (!cs.volumetric) {
-      // membrane: mass of a shell one spacing thick
+      // membrane: mass of a wall one spacing thick (paper model) or of the shell's own thickness
       double area = 0.0;
       for (const auto& f : faces_of[ci])
         area += 0.5 * (m.rest_pos[f[1]] - m.rest_pos[f[0]]).cross(m.rest_pos[f[2]] - m.rest_pos[f[0]]).norm();
-      volume = area * cs.spacing;
+      volume = area * (mat.shell_model ? *mat.thickness : cs.spacing);
     }
     volume -= excluded_volume[ci];  // the organs inside a fat block are not fat
     if (!(volume > 0.0))
@@ -326,6 +352,14 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
     const double pm = mat.density * volume / comp.particle_count;
     StrainParticle sp;
     TetParticle tp;
+    ShellParticle shp;
+    if (mat.shell_model) {
+      const double nu = mat.poisson ? *mat.poisson : mat.incompressible ? kStrainPoissonIncompressible : kStrainPoissonDefault;
+      shp.mu = strain_moduli(*mat.young, nu).mu;
+      shp.poisson = nu;
+      shp.thickness = *mat.thickness;
+      any_shell = true;
+    }
     if (mat.tet_model) {
       if (!cs.volumetric)
         throw InputError(spec.file, mat.loc.line, "materials." + mat.name + ".model",
@@ -353,10 +387,10 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
       any_strain = true;
     }
     const double ke = mat.k_e               ? *mat.k_e
-                      : mat.tet_model       ? 0.0  // the elements carry the whole stiffness
+                      : mat.tet_model || mat.shell_model ? 0.0  // the elements carry the whole stiffness
                       : mat.strain_model    ? strain_shape_memory_stiffness(sp.mu, cs.spacing)
                                             : shape_memory_stiffness(*mat.young, cs.spacing);
-    if (!mat.k_e && !mat.strain_model && !mat.tet_model && comp.kind != ComponentKind::Rigid && (cs.spacing < kCalibratedSpacingMin || cs.spacing > kCalibratedSpacingMax))
+    if (!mat.k_e && !mat.strain_model && !mat.tet_model && !mat.shell_model && comp.kind != ComponentKind::Rigid && (cs.spacing < kCalibratedSpacingMin || cs.spacing > kCalibratedSpacingMax))
       warnings.push_back("component '" + cs.name + "': spacing " + std::to_string(cs.spacing * 1e3) +
                          " mm is outside the 4-10 mm range where the E -> k_e mapping was calibrated");
     for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p) {
@@ -367,6 +401,7 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
       m.damping[p] = mat.damping;
       strain[p] = sp;
       tet[p] = tp;
+      shell[p] = shp;
     }
   }
   for (size_t oi = 0; oi < spec.overrides.size(); ++oi) {
@@ -377,7 +412,9 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
     for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p) {
       if (!o.region.contains(m.rest_pos[p])) continue;
       ++hits;
-      if (o.young && tet[p].mu > 0.0) {
+      if (o.young && shell[p].mu > 0.0) {
+        shell[p].mu = strain_moduli(*o.young, shell[p].poisson).mu;
+      } else if (o.young && tet[p].mu > 0.0) {
         const double nu = tet[p].lambda / (2.0 * (tet[p].lambda + tet[p].mu));
         const StrainModuli sm = strain_moduli(*o.young, nu);
         tet[p].mu = sm.mu;
@@ -555,11 +592,15 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
         const int oc = m.find_component(other);
         if (oc >= 0 && m.components[oc].surface >= 0) excluded[ci].push_back(m.components[oc].surface);
       }
+    // links between two tet components, or a tet component and a shell (the tissue around a wall
+    // reaches it through elements spanning the gap, of the tet side's material)
     std::vector<TetLink> tet_links;
     for (const LinkSpec& l : spec.links) {
       const int a = m.find_component(l.a), b = m.find_component(l.b);
-      if (a >= 0 && b >= 0 && tet[m.components[a].first_particle].mu > 0.0 && tet[m.components[b].first_particle].mu > 0.0)
-        tet_links.push_back(TetLink{a, b, l.distance});
+      if (a < 0 || b < 0) continue;
+      const int pa = m.components[a].first_particle, pb = m.components[b].first_particle;
+      const bool ta = tet[pa].mu > 0.0, tb = tet[pb].mu > 0.0;
+      if ((ta && tb) || (ta && shell[pb].mu > 0.0) || (tb && shell[pa].mu > 0.0)) tet_links.push_back(TetLink{a, b, l.distance});
     }
     // dropping slivers and hull elements is by design (tet_elements.cpp): a note, not a warning
     for (auto& w : build_tet_elements(m, tet, excluded, tet_links))
@@ -575,6 +616,14 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
     bool dropped = false;
     for (int p = 0; p < n; ++p)
       if (m.shape_memory[p] && m.tets.node_slot[p] >= 0 && !(m.k_e[p] > 0.0)) { m.shape_memory[p] = 0; dropped = true; }
+    if (dropped) compute_discrete_coordinates(m);
+  }
+  if (any_shell) {  // after the surfaces: the shells are their faces
+    build_shell_elements(m, shell);
+    // the elements carry the wall's stiffness (k_e = 0): no attractor to evaluate
+    bool dropped = false;
+    for (int p = 0; p < n; ++p)
+      if (m.shape_memory[p] && shell[p].mu > 0.0 && !(m.k_e[p] > 0.0)) { m.shape_memory[p] = 0; dropped = true; }
     if (dropped) compute_discrete_coordinates(m);
   }
   m.any_shape_memory = false;

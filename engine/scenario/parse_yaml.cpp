@@ -92,7 +92,7 @@ RegionSpec parse_region(const YamlReader& r, const YAML::Node& v, const std::str
 MaterialSpec parse_material(const YamlReader& r, const std::string& name, const YAML::Node& v) {
   const std::string k = "materials." + name;
   r.only_keys(v, k, {"young_kpa", "k_e_n_m", "density_kg_m3", "damping_1_s", "incompressible", "k_c_n", "k_f_n",
-                     "model", "poisson", "k_s_n_m"});
+                     "model", "poisson", "k_s_n_m", "thickness_mm"});
   MaterialSpec m;
   m.name = name;
   m.loc = loc_of(r, v);
@@ -108,10 +108,12 @@ MaterialSpec parse_material(const YamlReader& r, const std::string& name, const 
     const std::string model = r.string(v["model"], k + ".model");
     if (model == "strain") m.strain_model = true;
     else if (model == "tet") m.tet_model = true;
-    else if (model != "paper") r.fail(v["model"], k + ".model", "model must be paper, strain or tet");
+    else if (model == "shell") m.shell_model = true;
+    else if (model != "paper") r.fail(v["model"], k + ".model", "model must be paper, strain, tet or shell");
   }
   if (v["poisson"]) {
-    if (!m.strain_model && !m.tet_model) r.fail(v["poisson"], k + ".poisson", "poisson only applies to model: strain or tet");
+    if (!m.strain_model && !m.tet_model && !m.shell_model)
+      r.fail(v["poisson"], k + ".poisson", "poisson only applies to model: strain, tet or shell");
     m.poisson = r.non_negative(v["poisson"], k + ".poisson");
     if (!(*m.poisson < 0.5)) r.fail(v["poisson"], k + ".poisson", "must be in [0, 0.5)");
   }
@@ -120,6 +122,12 @@ MaterialSpec parse_material(const YamlReader& r, const std::string& name, const 
     m.k_s = r.ranged(v["k_s_n_m"], k + ".k_s_n_m", 1e-6, kMaxStiffnessNm, "N/m");
   }
   if (m.tet_model && !m.young) r.fail(v, k, "model: tet needs young_kpa");
+  if (v["thickness_mm"]) {
+    if (!m.shell_model) r.fail(v["thickness_mm"], k + ".thickness_mm", "thickness_mm only applies to model: shell");
+    m.thickness = r.ranged(v["thickness_mm"], k + ".thickness_mm", 0.05, 50.0, "mm") * 1e-3;
+  }
+  if (m.shell_model && !m.young) r.fail(v, k, "model: shell needs young_kpa");
+  if (m.shell_model && !m.thickness) r.fail(v, k, "model: shell needs thickness_mm (the wall thickness)");
   if (m.strain_model && !m.young && !m.k_s)
     r.fail(v, k, "model: strain needs young_kpa or k_s_n_m");
   return m;

@@ -41,6 +41,10 @@ struct MaterialSpec {
   // model: tet (v2: elements over a Delaunay tetrahedralisation of the particles, docs/model.md
   // "Tet model"); poisson applies to it too
   bool tet_model = false;
+  // model: shell (membranes, fill: surface only: co-rotational triangles and dihedral hinges on the
+  // surface, docs/model.md "Shell model"); poisson applies, thickness is the wall's
+  bool shell_model = false;
+  std::optional<double> thickness; // shell wall thickness [m]
   std::optional<double> poisson;   // local Poisson ratio of the strain term [-], in [0, 0.5)
   std::optional<double> k_s;       // raw strain stiffness: shear modulus x spacing [N/m]
   SourceLoc loc;

@@ -19,7 +19,10 @@ State make_state(const Model& model) {
   s.triplet_scratch.assign(static_cast<size_t>(kTripletScratchFields) * 4 * model.most_chunks, 0.0);
   s.strain_rot.assign(model.strain.centre.size(), Quat::Identity());
   s.tet_node_vol.assign(model.tets.nodes.size(), 0.0);
-  if (model.tets.multirate()) s.tet_slow_vol.assign(model.tets.nodes.size(), 0.0);
+  if (model.tets.multirate()) {
+    s.tet_slow_vol.assign(model.tets.nodes.size(), 0.0);
+    s.tet_slow_f.assign(model.rest_pos.size(), Vec3::Zero());
+  }
   s.bodies.resize(model.rigid_bodies.size());
   for (size_t b = 0; b < model.rigid_bodies.size(); ++b) s.bodies[b].com = model.rigid_bodies[b].com_rest;
   s.target_volume.resize(model.surfaces.size());

@@ -55,6 +55,9 @@ struct State {
                                         // tet node, then its pressure kappa (J_n - 1) [m^3] / [Pa]
   std::vector<double> tet_slow_vol;     // [Model::tets.nodes] multi-rate scratch: volume share of the
                                         // slow elements at the tick's first substep [m^3]
+  std::vector<Vec3> tet_slow_f;         // [n] multi-rate (symmetric split): the slow elements' force at
+                                        // the end of the last tick, the next tick's opening half kick [N]
+  uint8_t tet_slow_f_valid = 0;         // 1 once tet_slow_f holds the force at the current positions
   StepFault fault;
   int64_t clamp_count = 0;         // times a safety clamp acted
 };

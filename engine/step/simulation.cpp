@@ -32,6 +32,8 @@ const char* stage_name(Stage s) {
     case Stage::AdjustVelocity: return "adjust_velocity";
     case Stage::Check: return "check";
     case Stage::ToolAfter: return "tool_after";
+    case Stage::ShellElastic: return "shell_elastic";
+    case Stage::TetTickEnd: return "tet_tick_end";
   }
   return "?";
 }
@@ -61,6 +63,7 @@ void Simulation::build_pipeline() {
   if (m.any_shape_memory) pipeline_.push_back(Stage::ShapeMemory);
   if (m.strain.count() > 0) pipeline_.push_back(Stage::StrainMemory);
   if (m.tets.count() > 0) pipeline_.push_back(Stage::TetElastic);
+  if (m.shells.triangle_count() > 0) pipeline_.push_back(Stage::ShellElastic);
   if (!m.fibre_pairs.empty()) pipeline_.push_back(Stage::ActiveFibres);
   if (tools) pipeline_.push_back(Stage::ToolForces);
   if (rigid) pipeline_.push_back(Stage::RigidForces);
@@ -71,6 +74,7 @@ void Simulation::build_pipeline() {
   if (tools) pipeline_.push_back(Stage::ToolConstraints);
   if (volume) pipeline_.push_back(Stage::Volume);
   pipeline_.push_back(Stage::AdjustVelocity);
+  if (m.tets.multirate()) pipeline_.push_back(Stage::TetTickEnd);  // the slow group's closing half kick
   pipeline_.push_back(Stage::Check);
   if (tools) pipeline_.push_back(Stage::ToolAfter);
 }
@@ -99,6 +103,7 @@ bool Simulation::step(double dt, StageProbe* probe) {
         add_tet_elastic_forces(m, s, !m.tets.multirate() ? TetPass::All : ctx_->substep == 0 ? TetPass::TickStart : TetPass::Held,
                                ctx_->substeps);
         break;
+      case Stage::ShellElastic: add_shell_elastic_forces(m, s); break;
       case Stage::ActiveFibres: add_active_forces(m, s); break;
       case Stage::ToolForces: for (auto& t : tools_) t->forces(m, s, dt); break;
       case Stage::RigidForces: gather_rigid_forces(m, s); break;
@@ -110,6 +115,9 @@ bool Simulation::step(double dt, StageProbe* probe) {
         if (!project_volumes(m, s)) return false;
         break;
       case Stage::AdjustVelocity: adjust_velocities(s, dt); break;
+      case Stage::TetTickEnd:
+        if (ctx_->last_substep) end_tet_tick(m, s, dt * ctx_->substeps);
+        break;
       case Stage::Check:
         s.time = t_end;
         ++s.step;
@@ -168,6 +176,9 @@ void serialize_state(State& s, StateIO& io) {
   io.pod(s.fault.time);
   io.pod(s.fault.value);
   io.pod(s.clamp_count);
+  io.array(s.tet_slow_vol);
+  io.array(s.tet_slow_f);
+  io.pod(s.tet_slow_f_valid);
 }
 
 void Simulation::save(std::vector<uint8_t>& out) {

@@ -28,8 +28,17 @@ double strain_memory_energy(const Model& m, const State& s);
 // group's force at the current volumes (the stability estimates).
 enum class TetPass { All, TickStart, Held, FastOnly, SlowOnly };
 void add_tet_elastic_forces(const Model& m, State& s, TetPass pass = TetPass::All, int substeps = 1);
+// tet_elastic.cpp: multi-rate only, after the tick's last substep: the slow elements' force at the
+// tick's end positions (kept in State for the next tick's opening kick) and its closing half kick
+// v += T/2 F / m on every free axis; tick = the tick's length T [s]
+void end_tet_tick(const Model& m, State& s, double tick);
 // tet_elastic.cpp: the energy whose negative gradient that force is [J] (tests, diagnostics)
 double tet_elastic_energy(const Model& m, const State& s);
+// shell_elastic.cpp: elastic force of the shell model's membranes (Model::shells, docs/model.md
+// "Shell model"): co-rotational constant-strain triangles (plane stress) and dihedral hinges
+void add_shell_elastic_forces(const Model& m, State& s);
+// shell_elastic.cpp: the energy whose negative gradient that force is [J] (tests, diagnostics)
+double shell_elastic_energy(const Model& m, const State& s);
 // active.cpp: fibre contraction of active components scaled by State::activation
 void add_active_forces(const Model& m, State& s);
 // rigid.cpp: moves forces of attached elastic particles onto their rigid bodies

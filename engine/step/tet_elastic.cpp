@@ -116,6 +116,39 @@ void element_forces(const TetElements& te, const Vec3* x, const double* p, int b
 
 }  // namespace
 
+namespace {
+
+// The slow elements' force at the current positions into s.tet_slow_f, with their volume shares
+// into s.tet_slow_vol (held for the fast elements' node pressures until the next tick's end).
+void slow_force_now(const Model& m, State& s) {
+  const TetElements& te = m.tets;
+  const int nt = te.count(), nf = te.fast_count;
+  const int nn = static_cast<int>(te.nodes.size());
+  double* vs = s.tet_slow_vol.data();
+  double* p = s.tet_node_vol.data();
+  for (int a = 0; a < nn; ++a) vs[a] = 0.0;
+  add_node_volumes(te, s.x, nf, nt, vs);
+  for (int a = 0; a < nn; ++a) p[a] = vs[a];
+  add_node_volumes(te, s.x, 0, nf, p);
+  for (int a = 0; a < nn; ++a) p[a] = te.node_kappa[a] * (p[a] * te.node_inv_vol0[a] - 1.0);
+  for (Vec3& f : s.tet_slow_f) f.setZero();
+  element_forces(te, s.x.data(), p, nf, nt, 1.0, s.tet_slow_f.data());
+  s.tet_slow_f_valid = 1;
+}
+
+}  // namespace
+
+void end_tet_tick(const Model& m, State& s, double tick) {
+  slow_force_now(m, s);
+  const double half = 0.5 * tick;  // the closing half kick [s]
+  for (int p = 0, n = m.particle_count(); p < n; ++p) {
+    if (m.inv_mass[p] == 0.0) continue;
+    const Vec3 dv = half * m.inv_mass[p] * s.tet_slow_f[p];
+    for (int a = 0; a < 3; ++a)
+      if (!(m.locked_axes[p] & (1u << a))) s.v[p][a] += dv[a];
+  }
+}
+
 void add_tet_elastic_forces(const Model& m, State& s, TetPass pass, int substeps) {
   const TetElements& te = m.tets;
   const int nt = te.count(), nf = te.fast_count;
@@ -125,10 +158,11 @@ void add_tet_elastic_forces(const Model& m, State& s, TetPass pass, int substeps
   if (!split) {
     node_volumes(te, s.x, p);
   } else {
-    // the slow elements' volume shares are measured at the tick's first substep and held: the
-    // pressure of a node between both groups mixes the held and the current shares
+    // the slow elements' volume shares are measured with their force (the last tick's end) and
+    // held: the pressure of a node between both groups mixes the held and the current shares
+    if (pass == TetPass::TickStart && !s.tet_slow_f_valid) slow_force_now(m, s);
     double* vs = s.tet_slow_vol.data();
-    if (pass != TetPass::Held) {
+    if (pass == TetPass::FastOnly || pass == TetPass::SlowOnly) {
       for (int a = 0; a < nn; ++a) vs[a] = 0.0;
       add_node_volumes(te, s.x, nf, nt, vs);
     }
@@ -143,15 +177,19 @@ void add_tet_elastic_forces(const Model& m, State& s, TetPass pass, int substeps
     case TetPass::FastOnly: element_forces(te, x, p, 0, nf, 1.0, f); return;
     case TetPass::SlowOnly: element_forces(te, x, p, nf, nt, 1.0, f); return;
     case TetPass::Held: element_forces(te, x, p, 0, nf, 1.0, f); return;
-    case TetPass::TickStart:
-      // the impulse method (Tuckerman, Berne, Martyna 1992, first-order form): the slow force
-      // acts once per tick as a kick of its whole tick's impulse, F dt = (F substeps) h, and not
-      // at all in the tick's other substeps. That is symplectic Euler at the tick for the slow
-      // group (stable for omega dt < 2). Holding F over the substeps instead is not: with
-      // positions updated every substep the scheme gains energy at any step size.
+    case TetPass::TickStart: {
+      // the impulse method in its symmetric form (r-RESPA, Tuckerman, Berne, Martyna 1992): the
+      // slow force acts only as two half kicks of T/2 each, one at the tick's start (here, as a
+      // force of substeps/2 times F over the first substep h) and one at its end (end_tet_tick,
+      // from the force at the end positions, which is carried to open the next tick). Velocity
+      // Verlet at the tick for the slow group: stable for omega T < 2, second order, and a body
+      // at rest keeps no velocity ripple at tick boundaries (the first-order form, one whole
+      // kick at the start, left about T a_slow / 2).
       element_forces(te, x, p, 0, nf, 1.0, f);
-      element_forces(te, x, p, nf, nt, static_cast<double>(substeps), f);
+      const double k = 0.5 * substeps;
+      for (size_t q = 0; q < s.tet_slow_f.size(); ++q) f[q] += k * s.tet_slow_f[q];
       return;
+    }
   }
 }
 
