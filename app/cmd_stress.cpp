@@ -1,10 +1,14 @@
-// `prostatesim stress [SCENARIO...] [--quick] [--json FILE] [--csv FILE]`: numerical robustness
-// of each scene (app/stress.h). Default: the default scenes and the validation scenes. Prints a
-// table of what each case tried and what held; exit 0 when everything held (or was refused
-// cleanly), 3 when any case failed or ran out of its time budget.
+// `prostatesim stress [SCENARIO...] [--quick] [--json FILE] [--csv FILE] [--cases A,B] [--soak S]
+// [--script F|none]`: numerical robustness of each scene (app/stress.h). Default: the default
+// scenes and the validation scenes. Prints a table of what each case tried and what held; exit 0
+// when everything held (or was refused cleanly), 3 when any case failed or ran out of its time
+// budget. The one-hour soak benchmark of a default scene (its script looped, watchdog, drift
+// figures, a progress line on stderr every --report-every seconds):
+//   prostatesim stress config/biopsy.yaml --cases soak --soak 3600 --budget 86400 --json soak.json
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -12,6 +16,7 @@
 #include "app/commands.h"
 #include "app/progress.h"
 #include "app/stress.h"
+#include "engine/realtime/script.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/util/atomic_file.h"
@@ -25,8 +30,10 @@ struct StressArgs {
   std::vector<std::string> scenarios;
   bool quick = false;
   std::string json, csv, root;
-  double budget_s = -1, soak_s = -1, run_s = -1;
+  double budget_s = -1, soak_s = -1, run_s = -1, report_every_s = 60;
   uint64_t seed = 1;
+  std::vector<std::string> cases;
+  std::string script;
 };
 
 std::vector<std::string> default_scenarios(const std::string& given_root) {
@@ -70,6 +77,12 @@ void add_stress_command(CLI::App& app, Runner& run) {
       ->check(CLI::Range(0.001, 1e6));
   sub->add_option("--run", a->run_s, "simulated time of the other dynamic cases [s] (default 0.05, quick 0.02)")
       ->check(CLI::Range(0.001, 100.0));
+  sub->add_option("--cases", a->cases, "run only these cases (comma-separated), e.g. --cases soak")->delimiter(',');
+  sub->add_option("--script", a->script,
+                  "script the soak loops (default: <scenario dir>/scripts/<scenario file> when written for the scene; none: no script)");
+  sub->add_option("--report-every", a->report_every_s, "wall seconds between soak progress lines on stderr")
+      ->check(CLI::Range(0.1, 86400.0))
+      ->capture_default_str();
   sub->add_option("--seed", a->seed, "seed of the random impulses and command sequences (replay a failure with it)")
       ->capture_default_str();
   sub->callback([a, &run] {
@@ -80,12 +93,30 @@ void add_stress_command(CLI::App& app, Runner& run) {
       opt.soak_s = a->soak_s > 0 ? a->soak_s : (a->quick ? 0.05 : 0.5);
       opt.run_s = a->run_s > 0 ? a->run_s : (a->quick ? 0.02 : 0.05);
       opt.seed = a->seed;
+      opt.report_every_s = a->report_every_s;
+      opt.soak_script = a->script;
+      opt.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+      const std::vector<std::string> known = all_stress_case_names();
+      for (const auto& c : a->cases)  // bad input: exit 2 before any case runs
+        if (std::find(known.begin(), known.end(), c) == known.end())
+          throw InputError("", 0, "--cases", "unknown stress case '" + c + "' (cases: stable_substep, stiff_inclusion_{10,100,1000}, "
+                                              "needle_1m_s, gun_fired, pullback_stuck, probe_push_rotate, fill_max_rate, "
+                                              "random_impulses, random_commands, soak)");
+      opt.cases = a->cases;
       const std::vector<std::string> files = a->scenarios.empty() ? default_scenarios(a->root) : a->scenarios;
+      if (!a->script.empty() && a->script != "none" && files.size() != 1)
+        throw InputError("", 0, "--script", "--script needs exactly one scenario (each default scene has its own script)");
       std::vector<ScenarioSpec> specs;
       std::vector<std::shared_ptr<const Model>> models;
-      for (const auto& f : files) {  // bad input: exit 2 before any case runs
+      for (const auto& f : files) {
         specs.push_back(parse_scenario_file(f));
         models.push_back(compile_scenario(specs.back()));
+        const std::string sf = soak_script_for(specs.back(), opt);
+        if (!sf.empty()) {  // a bad or foreign script is bad input too
+          const Script script = parse_script_file(sf);
+          if (!script.scenario.empty() && script.scenario != specs.back().name)
+            throw InputError(sf, 0, "scenario", "script written for scenario '" + script.scenario + "', not '" + specs.back().name + "'");
+        }
       }
       int total = 0;
       for (const auto& s : specs) total += static_cast<int>(stress_case_names(s, opt).size());
@@ -109,9 +140,16 @@ void add_stress_command(CLI::App& app, Runner& run) {
       for (const auto& r : all) { failed += r.status == "FAIL"; timeouts += r.status == "TIMEOUT"; }
       if (!a->json.empty()) {
         nlohmann::json j = nlohmann::json::array();
-        for (const auto& r : all)
-          j.push_back({{"scene", r.scene}, {"case", r.name}, {"status", r.status}, {"tried", r.tried}, {"held", r.held},
-                       {"sim_s", r.sim_s}, {"wall_s", r.wall_s}});
+        for (const auto& r : all) {
+          nlohmann::json row = {{"scene", r.scene}, {"case", r.name}, {"status", r.status}, {"tried", r.tried},
+                                {"held", r.held},   {"sim_s", r.sim_s}, {"wall_s", r.wall_s}};
+          if (!r.figures.empty()) {
+            nlohmann::json fig = nlohmann::json::object();
+            for (const auto& [k, v] : r.figures) fig[k] = std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+            row["figures"] = fig;
+          }
+          j.push_back(row);
+        }
         write_file_atomic(a->json, j.dump(2) + "\n");
       }
       if (!a->csv.empty()) {

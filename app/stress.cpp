@@ -4,11 +4,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <random>
 
 #include "engine/realtime/command_apply.h"
 #include "engine/realtime/command_queue.h"
+#include "engine/realtime/script.h"
+#include "engine/realtime/soak.h"
 #include "engine/scenario/compile.h"
 #include "engine/sim/watchdog.h"
 #include "engine/step/simulation.h"
@@ -344,17 +347,83 @@ StressResult random_commands(const ScenarioSpec& spec, const StressOptions& opt,
                             static_cast<double>(applier.applied()), static_cast<double>(applier.refused())));
 }
 
-StressResult soak(const ScenarioSpec& spec, const StressOptions& opt, const std::shared_ptr<const Model>& m0) {
+StressResult soak(const ScenarioSpec& spec, const StressOptions& opt) {
   StressResult r{spec.name, "soak"};
-  Scene sc = build(spec, m0);
-  r.tried = fmt("the scene with its own script for %.4g s of simulated time; watchdog: NaN, energy (10 m/s), volume "
-                "drift 5%%, particles 50 mm outside the scene",
-                opt.soak_s);
-  const Outcome out = run_watched(sc, opt.soak_s, opt.budget_s);
-  return finish(r, out, fmt("no fault over %.4g s (%.3g s simulated per wall s)", out.sim_s, out.sim_s / std::max(1e-9, out.wall_s)));
+  const std::string script_file = soak_script_for(spec, opt);
+  std::unique_ptr<Script> script;
+  if (!script_file.empty()) script = std::make_unique<Script>(parse_script_file(script_file));
+  ps::Scene sc = build_scene(spec);  // the scene as `run` builds it (needle on the probe guide)
+  SoakOptions so;
+  so.duration = opt.soak_s;
+  so.budget_s = opt.budget_s;
+  so.report_every_s = opt.report_every_s;
+  r.tried = fmt("the scene for %.6g s of simulated time", opt.soak_s) +
+            (script ? ", looping its script " + script_file + fmt(" (%.4g s a cycle)", script->duration)
+                    : std::string(", no script (its own instrument scripts only)")) +
+            "; watchdog every tick: NaN, energy (10 m/s), volume drift 5%, particles 50 mm outside the scene";
+  const Model& m = *sc.model;
+  const SoakReport rep = run_soak(sc, script.get(), so, [&](const SoakReport& p) {
+    if (!opt.progress) return;
+    const double eta = p.sim_s > 0 ? p.wall_s * (opt.soak_s - p.sim_s) / p.sim_s : 0.0;
+    opt.progress(spec.name + fmt(" soak: t = %.5g s of %.5g s (%.2f%%), %.0f s wall", p.sim_s, opt.soak_s,
+                                 100.0 * p.sim_s / opt.soak_s, p.wall_s) +
+                 fmt(" (%.3g s simulated per CPU s, ETA %.0f s wall): ", p.sim_s / std::max(1e-9, p.cpu_s), eta) +
+                 soak_figures(p, m));
+  });
+  Outcome o;
+  o.held = rep.held;
+  o.timeout = rep.timeout;
+  o.sim_s = rep.sim_s;
+  o.wall_s = rep.wall_s;
+  o.finding = rep.timeout ? fmt("wall budget of %.0f s ran out at t=%.6g s of %.6g s", opt.budget_s, rep.sim_s, opt.soak_s)
+                          : rep.fault;
+  const std::string figures = soak_figures(rep, m);
+  r = finish(r, o, "no fault: " + figures);
+  if (!o.held || o.timeout) r.held += "; figures: " + figures;
+  r.figures = {{"sim_s", rep.sim_s},
+               {"cpu_s", rep.cpu_s},
+               {"cycles", static_cast<double>(rep.cycles)},
+               {"commands_applied", static_cast<double>(rep.applied)},
+               {"commands_refused", static_cast<double>(rep.refused)},
+               {"peak_speed_m_s", rep.peaks.max_speed},
+               {"peak_speed_time_s", rep.peaks.max_speed_time},
+               {"peak_speed_particle", static_cast<double>(rep.peaks.fastest)},
+               {"peak_kinetic_j", rep.peaks.max_kinetic},
+               {"kinetic_limit_j", rep.kinetic_limit},
+               {"cycle_end_kinetic_first_j", rep.cycle_end_kinetic_first},
+               {"cycle_end_kinetic_last_j", rep.cycle_end_kinetic_last},
+               {"worst_volume_drift", rep.peaks.max_volume_drift},
+               {"max_displacement_mm", rep.peaks.max_displacement * 1e3},
+               {"min_margin_mm", (rep.peaks.min_margin < 1e299 ? rep.peaks.min_margin : 0.0) * 1e3},
+               {"cycle_drift_max_mm", rep.cycle_drift_max * 1e3},
+               {"cycle_drift_particle", static_cast<double>(rep.cycle_drift_particle)},
+               {"cycle_drift_rms_mm", rep.cycle_drift_rms * 1e3}};
+  for (const auto& [name, d] : rep.end_volume_drift) r.figures.emplace_back("end_volume_drift_" + name, d);
+  return r;
 }
 
 }  // namespace
+
+std::string soak_script_for(const ScenarioSpec& spec, const StressOptions& opt) {
+  namespace fs = std::filesystem;
+  if (opt.soak_script == "none") return "";
+  if (!opt.soak_script.empty()) return opt.soak_script;
+  if (spec.file.empty()) return "";
+  const fs::path f = fs::path(spec.file).parent_path() / "scripts" / fs::path(spec.file).filename();
+  if (!fs::exists(f)) return "";
+  // only a script written for this scene (its `scenario:` key): another scene's would be refused
+  try {
+    const Script s = parse_script_file(f.string());
+    return s.scenario.empty() || s.scenario == spec.name ? f.string() : "";
+  } catch (const InputError&) {
+    return f.string();  // bad: let the soak case report it
+  }
+}
+
+std::vector<std::string> all_stress_case_names() {
+  return {"stable_substep", "stiff_inclusion_10", "stiff_inclusion_100", "stiff_inclusion_1000", "needle_1m_s",
+          "gun_fired", "pullback_stuck", "probe_push_rotate", "fill_max_rate", "random_impulses", "random_commands", "soak"};
+}
 
 std::vector<std::string> stress_case_names(const ScenarioSpec& spec, const StressOptions& opt) {
   std::vector<std::string> n = {"stable_substep"};
@@ -362,6 +431,8 @@ std::vector<std::string> stress_case_names(const ScenarioSpec& spec, const Stres
     n.push_back(fmt("stiff_inclusion_%g", ratio));
   n.insert(n.end(), {"needle_1m_s", "gun_fired", "pullback_stuck", "probe_push_rotate", "fill_max_rate",
                      "random_impulses", "random_commands", "soak"});
+  if (!opt.cases.empty())
+    std::erase_if(n, [&](const std::string& c) { return std::find(opt.cases.begin(), opt.cases.end(), c) == opt.cases.end(); });
   return n;
 }
 
@@ -382,7 +453,7 @@ std::vector<StressResult> run_stress_cases(const ScenarioSpec& spec, std::shared
       else if (name == "fill_max_rate") r = fill_case(spec, opt, m0);
       else if (name == "random_impulses") r = impulses(spec, opt, m0);
       else if (name == "random_commands") r = random_commands(spec, opt, m0);
-      else r = soak(spec, opt, m0);
+      else r = soak(spec, opt);
     } catch (const InputError& e) {
       // A tool refusing the stressed setup up front (e.g. a needle path outside the scene) is a
       // clean refusal, not a crash.

@@ -19,6 +19,12 @@ struct StressOptions {
   double soak_s = 0.5;          // simulated time of the soak case [s]
   double run_s = 0.05;          // simulated time of the other dynamic cases [s]
   uint64_t seed = 1;            // random impulses / command sequences (replay with --seed)
+  std::vector<std::string> cases;  // run only these (names as stress_case_names); empty: all
+  // Script the soak loops: "" = the scene's own, <scenario dir>/scripts/<scenario file name>
+  // when it exists and was written for the scene; "none" = no script; else a file.
+  std::string soak_script;
+  double report_every_s = 60.0; // wall time between soak progress lines [s]
+  std::function<void(const std::string&)> progress;  // soak progress lines (null: quiet)
 };
 
 struct StressResult {
@@ -28,10 +34,17 @@ struct StressResult {
   std::string status;           // held | FAIL | TIMEOUT | refused | skipped
   double sim_s = 0.0;           // simulated time reached [s]
   double wall_s = 0.0;          // wall time spent [s]
+  std::vector<std::pair<std::string, double>> figures;  // measured numbers (soak: drift) by name
   bool failed() const { return status == "FAIL" || status == "TIMEOUT"; }
 };
 
-// The case names in run order (for the progress bar and --list).
+// The script the soak case loops for `spec` under `opt` ("" when none; see soak_script).
+std::string soak_script_for(const ScenarioSpec& spec, const StressOptions& opt);
+
+// Every case name a scene can have (for --cases checking).
+std::vector<std::string> all_stress_case_names();
+
+// The case names in run order (for the progress bar and --list), opt.cases applied.
 std::vector<std::string> stress_case_names(const ScenarioSpec& spec, const StressOptions& opt);
 
 // Runs every case on one parsed scenario and its compiled model (compile it first, so bad input is

@@ -1,5 +1,6 @@
 #include "engine/sim/watchdog.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -17,8 +18,9 @@ Watchdog::Watchdog(const Model& m, WatchLimits limits) : lim_(limits) {
   hi_ += Vec3::Constant(lim_.leave_margin);
 }
 
-WatchFinding Watchdog::check(const Model& m, const State& s) const {
+WatchFinding Watchdog::check(const Model& m, const State& s, WatchPeaks* peaks) const {
   WatchFinding f;
+  if (peaks) ++peaks->checks;
   f.time = s.time;
   if (s.fault.kind != StepFault::None) {
     static const char* kinds[] = {"none", "not finite", "too fast", "too far", "volume solve"};
@@ -30,8 +32,8 @@ WatchFinding Watchdog::check(const Model& m, const State& s) const {
     return f;
   }
   const int n = m.particle_count();
-  int fastest = -1;
-  double vmax2 = 0.0;
+  int fastest = -1, farthest = -1;
+  double vmax2 = 0.0, dmax2 = 0.0, margin = 1e300;
   for (int p = 0; p < n; ++p) {
     const double v2 = s.v[p].squaredNorm();
     if (!std::isfinite(v2) || !s.x[p].allFinite()) {
@@ -47,10 +49,25 @@ WatchFinding Watchdog::check(const Model& m, const State& s) const {
       f.what = "left the scene";
       f.particle = p;
       f.value = (x - m.rest_pos[p]).norm();
+      if (peaks) peaks->min_margin = std::min(peaks->min_margin, 0.0);
       return f;
+    }
+    if (peaks) {
+      margin = std::min(margin, std::min((x - lo_).minCoeff(), (hi_ - x).minCoeff()));
+      if (m.inv_mass[p] > 0) {
+        const double d2 = (x - m.rest_pos[p]).squaredNorm();
+        if (d2 > dmax2) { dmax2 = d2; farthest = p; }
+      }
     }
   }
   const double ke = kinetic_energy(m, s);
+  if (peaks) {
+    const double v = std::sqrt(vmax2), d = std::sqrt(dmax2);
+    if (v > peaks->max_speed) { peaks->max_speed = v; peaks->fastest = fastest; peaks->max_speed_time = s.time; }
+    if (ke > peaks->max_kinetic) { peaks->max_kinetic = ke; peaks->max_kinetic_time = s.time; }
+    if (d > peaks->max_displacement) { peaks->max_displacement = d; peaks->farthest = farthest; }
+    peaks->min_margin = std::min(peaks->min_margin, margin);
+  }
   if (std::sqrt(vmax2) > lim_.max_speed || ke > 0.5 * total_mass_ * lim_.max_speed * lim_.max_speed) {
     f.ok = false;
     f.what = "energy growth";
@@ -64,6 +81,11 @@ WatchFinding Watchdog::check(const Model& m, const State& s) const {
     double vol = 0.0;  // closed-surface volume by the divergence theorem
     for (const auto& t : surf.faces) vol += s.x[t[0]].dot(s.x[t[1]].cross(s.x[t[2]])) / 6.0;
     const double drift = std::abs(vol - s.target_volume[si]) / s.target_volume[si];
+    if (peaks && drift > peaks->max_volume_drift) {
+      peaks->max_volume_drift = drift;
+      peaks->worst_surface = static_cast<int>(si);
+      peaks->max_volume_drift_time = s.time;
+    }
     if (drift > lim_.volume_drift) {
       f.ok = false;
       f.what = "volume drift";

@@ -28,11 +28,34 @@ struct WatchFinding {
   std::string describe(const Model& m) const;  // one line: what, time, particle (component, rest mm)
 };
 
+// The worst values the watchdog has seen over a run (the soak's drift figures). Each is the
+// maximum over every check() that got this far: a check that stops at a finding leaves the later
+// measures of that tick out.
+struct WatchPeaks {
+  double max_speed = 0.0;        // fastest particle [m/s]
+  int fastest = -1;              // its particle
+  double max_speed_time = 0.0;   // when [s]
+  double max_kinetic = 0.0;      // total kinetic energy [J]
+  double max_kinetic_time = 0.0; // [s]
+  double max_volume_drift = 0.0; // |V - V_target| / V_target of a constrained surface [-]
+  int worst_surface = -1;        // Model::surfaces index
+  double max_volume_drift_time = 0.0;  // [s]
+  double max_displacement = 0.0; // largest |x - rest| of a free particle [m]
+  int farthest = -1;             // its particle
+  double min_margin = 1e300;     // smallest distance of a particle inside the "left the scene"
+                                 // box (rest bounds + leave_margin) to its faces [m]
+  int64_t checks = 0;            // ticks checked
+};
+
 class Watchdog {
  public:
   Watchdog(const Model& m, WatchLimits limits = {});
-  // After a tick. Returns the first problem found (ok=false) or ok.
-  WatchFinding check(const Model& m, const State& s) const;
+  // After a tick. Returns the first problem found (ok=false) or ok. With `peaks`, also records the
+  // worst values seen (allocation-free).
+  WatchFinding check(const Model& m, const State& s, WatchPeaks* peaks = nullptr) const;
+  const WatchLimits& limits() const { return lim_; }
+  // Energy limit: 0.5 * total mass * max_speed^2 [J]
+  double max_kinetic() const { return 0.5 * total_mass_ * lim_.max_speed * lim_.max_speed; }
 
  private:
   WatchLimits lim_;

@@ -62,5 +62,43 @@ TEST(CliStress, QuickRunOnACubePrintsTheTableAndHolds) {
   EXPECT_NE(read_text(d + "/s.csv").find("scene,case,status"), std::string::npos);
 }
 
+// The CI-sized soak through the CLI: the probe and filling validation scene with a 0.1 s script
+// looped three times (the one-hour soak of the default scenes is the same command with --soak 3600).
+TEST(CliStress, SoakLoopsTheScriptAndWritesItsDriftFigures) {
+  const auto d = cli_temp_dir("stress_soak").string();
+  const std::string script = write(d, "loop.yaml", R"(scenario: probe_pelvis_box
+duration_s: 0.1
+timeline:
+  - {t: 0.0, probe: {insertion_mm: 53}, over_s: 0.04}
+  - {t: 0.02, fill_rate: bladder, ml_s: 50}
+  - {t: 0.05, fill_rate: bladder, ml_s: -50}
+  - {t: 0.06, probe: {insertion_mm: 50}, over_s: 0.03}
+  - {t: 0.08, fill_rate: bladder, ml_s: 0}
+)");
+  const std::string scene = std::string(PROSTATESIM_SOURCE_DIR) + "/config/validation/probe_pelvis_box.yaml";
+  const auto r = run_cli("stress " + scene + " --cases soak --soak 0.3 --script " + script + " --json " + d + "/s.json");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("looping its script"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("3 cycles of 0.1 s"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("stable_substep"), std::string::npos) << "--cases soak runs the soak only\n" << r.out;
+  const std::string j = read_text(d + "/s.json");
+  EXPECT_NE(j.find("\"cycles\": 3"), std::string::npos) << j;
+  EXPECT_NE(j.find("\"commands_refused\": 0"), std::string::npos) << j;
+  for (const char* k : {"peak_kinetic_j", "worst_volume_drift", "cycle_drift_max_mm", "min_margin_mm", "end_volume_drift_bladder"})
+    EXPECT_NE(j.find(k), std::string::npos) << k << "\n" << j;
+}
+
+TEST(CliStress, UnknownCaseAndAForeignScriptAreBadInput) {
+  const auto d = cli_temp_dir("stress_soak_bad").string();
+  const std::string scene = std::string(PROSTATESIM_SOURCE_DIR) + "/config/validation/probe_pelvis_box.yaml";
+  auto r = run_cli("stress " + scene + " --cases soak,nonsense");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("nonsense"), std::string::npos) << r.out;
+  const std::string other = write(d, "other.yaml", "scenario: biopsy\nduration_s: 1\ntimeline:\n  - {t: 0.0, probe: {insertion_mm: 45}}\n");
+  r = run_cli("stress " + scene + " --cases soak --script " + other);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("biopsy"), std::string::npos) << r.out;
+}
+
 }  // namespace
 }  // namespace ps::test

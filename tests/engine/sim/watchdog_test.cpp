@@ -57,5 +57,34 @@ TEST(Watchdog, SeesNaNAndVolumeDrift) {
   EXPECT_NEAR(f.value, 1.1 * 1.1 * 1.1 - 1.0, 1e-6);
 }
 
+TEST(Watchdog, RecordsTheWorstValuesItSaw) {
+  const auto m = test::compile_text(test::cube_yaml(40, 10, true));
+  int p = 0;
+  while (m->inv_mass[p] == 0) ++p;  // a free particle
+  State s = make_state(*m);
+  s.time = 0.5;
+  s.v[p] = Vec3(0, 0, 2.0);           // [m/s]
+  s.x[p] += Vec3(0.003, 0, 0);        // [m]
+  const Watchdog dog(*m, {10.0, 0.5, 0.05});
+  WatchPeaks peaks;
+  ASSERT_TRUE(dog.check(*m, s, &peaks).ok);
+  EXPECT_EQ(peaks.max_speed, 2.0);
+  EXPECT_EQ(peaks.fastest, p);
+  EXPECT_EQ(peaks.max_speed_time, 0.5);
+  EXPECT_NEAR(peaks.max_kinetic, 0.5 * 2.0 * 2.0 / m->inv_mass[p], 1e-15);
+  EXPECT_NEAR(peaks.max_displacement, 0.003, 1e-15);
+  EXPECT_EQ(peaks.farthest, p);
+  EXPECT_GT(peaks.max_volume_drift, 0.0);  // one vertex moved 3 mm
+  EXPECT_LT(peaks.min_margin, 0.05);       // the cube's own particles sit on its bounding box
+  // a calmer tick keeps the peaks
+  s.time = 0.6;
+  s.v[p] = Vec3(0, 0, 1.0);
+  s.x[p] = m->rest_pos[p];
+  ASSERT_TRUE(dog.check(*m, s, &peaks).ok);
+  EXPECT_EQ(peaks.max_speed, 2.0);
+  EXPECT_EQ(peaks.max_speed_time, 0.5);
+  EXPECT_EQ(peaks.checks, 2);
+}
+
 }  // namespace
 }  // namespace ps

@@ -1,0 +1,133 @@
+// Tests for engine/realtime/soak.cpp: the looping script player and the CI-sized soak (the
+// one-hour soak of the default scenes is the benchmark `prostatesim stress --cases soak --soak
+// 3600`, docs/robustness.md). The small live scene (tests/engine/realtime/live_scene.h) runs a
+// 0.2 s script that moves the probe, drives a needle in, fires its gun, fills and empties the
+// bladder and puts everything back, three cycles under the watchdog.
+#include "engine/realtime/soak.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "engine/realtime/lockstep.h"
+#include "tests/engine/realtime/live_scene.h"
+
+namespace ps {
+namespace {
+
+const char* kLoopScript = R"(scenario: live_box
+duration_s: 0.2
+timeline:
+  - {t: 0.0, probe: {insertion_mm: 52}, over_s: 0.05}
+  - {t: 0.0, needle: gun, depth_mm: 0}
+  - {t: 0.02, fill_rate: bladder, ml_s: 50}
+  - {t: 0.08, needle: gun, depth_mm: 18}
+  - {t: 0.09, fire: gun}
+  - {t: 0.10, fill_rate: bladder, ml_s: -50}
+  - {t: 0.12, needle: gun, depth_mm: 18}
+  - {t: 0.16, probe: {insertion_mm: 50}, over_s: 0.03}
+  - {t: 0.18, needle: gun, depth_mm: 0}
+  - {t: 0.18, fill_rate: bladder, ml_s: 0}
+)";
+
+struct TickLog final : CommandObserver {
+  std::vector<int64_t> ticks;
+  void applied(const Command& c) override { ticks.push_back(c.tick); }
+};
+
+TEST(LoopingPlayer, ReplaysTheScriptEveryPeriodInOrder) {
+  Scene sc = test::make_live_scene();
+  const Script s = parse_script_text(kLoopScript, "loop.yaml");
+  const std::vector<Command> cmds = script_commands(s, sc);
+  ASSERT_FALSE(cmds.empty());
+  LoopingPlayer player(cmds, 200);
+  EXPECT_EQ(player.period(), 200);
+  LockstepRunner run(*sc.sim);
+  TickLog log;
+  run.applier().set_observer(&log);
+  run.add_source(&player);
+  ASSERT_TRUE(run.advance_to(600));
+  ASSERT_EQ(log.ticks.size(), 3 * cmds.size());
+  for (size_t c = 0; c < 3; ++c)
+    for (size_t k = 0; k < cmds.size(); ++k) EXPECT_EQ(log.ticks[c * cmds.size() + k], cmds[k].tick + 200 * static_cast<int64_t>(c));
+  EXPECT_EQ(run.applier().refused(), 0);
+}
+
+TEST(LoopingPlayer, StretchesAPeriodShorterThanTheScript) {
+  std::vector<Command> cmds(2);
+  cmds[0].tick = 0;
+  cmds[1].tick = 9;
+  EXPECT_EQ(LoopingPlayer(cmds, 5).period(), 10);  // the next cycle starts after the last command
+  EXPECT_EQ(LoopingPlayer({}, 0).period(), 1);
+}
+
+TEST(Soak, CiSizedSoakOfTheLiveSceneHoldsAndReportsItsDrift) {
+  const Script s = parse_script_text(kLoopScript, "loop.yaml");
+  SoakOptions opt;
+  opt.duration = 0.6;  // three cycles
+  Scene sc = test::make_live_scene();
+  const SoakReport r = run_soak(sc, &s, opt);
+  ASSERT_TRUE(r.held) << r.fault;
+  EXPECT_FALSE(r.timeout);
+  EXPECT_EQ(r.ticks, 600);
+  EXPECT_EQ(r.period_ticks, 200);
+  EXPECT_EQ(r.cycles, 3);
+  EXPECT_EQ(r.refused, 0);
+  EXPECT_EQ(r.applied, 3 * static_cast<int64_t>(script_commands(s, sc).size()));
+  EXPECT_EQ(r.peaks.checks, 600);
+  // the instruments moved the tissue: the peaks are real measurements, within the watchdog's limits
+  EXPECT_GT(r.peaks.max_speed, 0.0);
+  EXPECT_LT(r.peaks.max_speed, opt.limits.max_speed);
+  EXPECT_GT(r.peaks.max_kinetic, 0.0);
+  EXPECT_LT(r.peaks.max_kinetic, r.kinetic_limit);
+  EXPECT_GT(r.peaks.max_displacement, 0.0);
+  EXPECT_GT(r.peaks.min_margin, 0.0);
+  EXPECT_LE(r.peaks.max_volume_drift, opt.limits.volume_drift);
+  EXPECT_GE(r.peaks.worst_surface, 0);
+  ASSERT_FALSE(r.end_volume_drift.empty());
+  const std::string fig = soak_figures(r, *sc.model);
+  EXPECT_NE(fig.find("3 cycles"), std::string::npos) << fig;
+  EXPECT_NE(fig.find("cycle drift (end of cycle 3 vs end of cycle 1)"), std::string::npos) << fig;
+
+  // The cycle drift is the distance between the ends of cycle 1 and cycle 3: rerun one cycle
+  // (deterministic: the same bits) and compare.
+  Scene one = test::make_live_scene();
+  opt.duration = 0.2;
+  const SoakReport r1 = run_soak(one, &s, opt);
+  ASSERT_TRUE(r1.held) << r1.fault;
+  EXPECT_EQ(r1.cycles, 1);
+  double mx = 0.0;
+  for (size_t p = 0; p < one.sim->state().x.size(); ++p)
+    mx = std::max(mx, (sc.sim->state().x[p] - one.sim->state().x[p]).norm());
+  EXPECT_EQ(r.cycle_drift_max, mx);
+  std::printf("live_box soak: %s\n", fig.c_str());
+}
+
+TEST(Soak, AWatchdogFindingStopsTheSoakNamingTickAndParticle) {
+  const Script s = parse_script_text(kLoopScript, "loop.yaml");
+  SoakOptions opt;
+  opt.duration = 0.6;
+  opt.limits.max_speed = 1e-3;  // [m/s] the probe moves the tissue faster than this
+  Scene sc = test::make_live_scene();
+  const SoakReport r = run_soak(sc, &s, opt);
+  EXPECT_FALSE(r.held);
+  EXPECT_LT(r.ticks, 600);
+  EXPECT_NE(r.fault.find("watchdog: energy growth"), std::string::npos) << r.fault;
+  EXPECT_NE(r.fault.find("particle"), std::string::npos) << r.fault;
+  EXPECT_NE(r.fault.find("tick " + std::to_string(r.ticks - 1) + ":"), std::string::npos) << r.fault;
+}
+
+TEST(Soak, TheWallBudgetEndsItAsATimeout) {
+  SoakOptions opt;
+  opt.duration = 3600.0;
+  opt.budget_s = 1e-6;  // [s] runs out at the first look at the clock
+  Scene sc = test::make_live_scene();
+  const SoakReport r = run_soak(sc, nullptr, opt);
+  EXPECT_TRUE(r.held);
+  EXPECT_TRUE(r.timeout);
+  EXPECT_EQ(r.ticks, 64);
+  EXPECT_EQ(r.period_ticks, 1000);  // no script: drift compared every opt.period = 1 s
+}
+
+}  // namespace
+}  // namespace ps
