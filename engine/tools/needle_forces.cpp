@@ -23,6 +23,10 @@ Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s
   NeedleReadout& ro = nd.ro;
   ro.press_force = ro.cutting_force = ro.friction_force = 0.0;
 
+  // the press damper acts above this approach speed only [m/s]: below it (a needle held still, or
+  // creeping) the plain spring, which comes to rest (the damper on the needle's own coupling
+  // vibration kept needle and tissue in a chatter, Needle.HeldStillInsideTissueEverythingComesToRest)
+  constexpr double kDampedApproach = 0.05;
   // --- puncture: the tip pushes the entry face it has reached until the eq. 5 threshold breaks it
   bool breached = false;
   int breached_component = -1;
@@ -46,7 +50,11 @@ Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s
       v_patch += nd.press_w[i] * s.v[p].dot(d);
     }
     double P = nd.spec.press_stiffness * (-nd.press_a);
-    if (inv_m > 0.0) {
+    // the damper acts only in contact and while the tip advances into the wall: a needle held
+    // still (or pulled back) against a surface gets the plain spring, which comes to rest (the
+    // damper on the patch's own speed alone kept needle and tissue in a chatter)
+    P = std::max(0.0, P);  // a contact pushes, it never pulls
+    if (inv_m > 0.0 && P > 0.0 && nd.V.dot(d) > kDampedApproach) {
       const double M = 1.0 / inv_m;
       const double c = std::min(2.0 * std::sqrt(nd.spec.press_stiffness * M), M / h);
       P = std::max(0.0, P + c * (nd.V.dot(d) - v_patch));

@@ -17,7 +17,7 @@ namespace {
 
 ScenarioSpec biopsy(int substeps, bool mass_scaling, bool paper = true, bool multirate = false) {
   ScenarioSpec spec = parse_scenario_file(std::string(PROSTATESIM_SOURCE_DIR) + "/config/biopsy.yaml");
-  spec.needles.needles.at(0).script = {{0.0, 0.0}, {0.06, 12e-3}};  // 200 mm/s into the wall
+  spec.needles.needles.at(0).script = {{0.0, 0.0}, {0.06, 18e-3}};  // 300 mm/s: the wall is 12 mm along the guide
   if (paper)
     for (auto& m : spec.materials) m.tet_model = m.shell_model = false;  // model: paper (k_e from young_kpa)
   spec.substeps = substeps;
