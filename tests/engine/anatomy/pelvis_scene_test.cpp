@@ -114,8 +114,8 @@ TEST(BiopsyScene, ZonesAndTheLesionAreTagged) {
   }
   EXPECT_GE(n_lesion, 3);
   // the lesion override reaches the elements: an element's shear modulus is the mean of its
-  // vertices', mu = E / (2 (1 + nu)) with the file's local nu = 0.45
-  const double mu_gland = 40e3 / (2 * 1.45), mu_lesion = 100e3 / (2 * 1.45);
+  // vertices', mu = E / (2 (1 + nu)) with nu = 0.49 (incompressible: true)
+  const double mu_gland = 40e3 / (2 * 1.49), mu_lesion = 100e3 / (2 * 1.49);
   int with_lesion = 0, no_lesion = 0;
   for (int t = 0; t < m.tets.count(); ++t) {
     int in_lesion = 0, in_prostate = 0;
