@@ -184,6 +184,8 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
   beam_pix_.assign(static_cast<size_t>(NB_) * NS_, -1);
   T_.assign(beam_pix_.size(), 1.0f);
   mark_.assign(beam_pix_.size(), 1.0f);
+  rod_k_.assign(NB_, NS_);
+  rod_m_.assign(NB_, 1.0f);
   for (int b = 0; b < NB_; ++b)
     for (int k = 0; k < NS_; ++k) {
       double s, t;
@@ -668,39 +670,55 @@ void PlaneImager::transmission(const UltrasoundScene& sc, const PlaneFrame& f) {
   std::fill(mark_.begin(), mark_.end(), 1.0f);
   const double r = set_.convex_radius, D = set_.depth, h = 0.5 * set_.fov;
   const double sig_e = set_.slice_thickness / 2.355;
-  // rods stop part of the beam that crosses them (seeds, needle: partial shadow)
+  // rods stop part of the beam that crosses them (seeds, needle: partial shadow). A beam loses
+  // the fraction `shadow` x (elevation profile at its closest crossing) once per rod, from the
+  // shallowest depth where the rod stops at least 90 % of that. A rod oblique to the beams covers
+  // several depth cells of one beam: marking each of them multiplied the loss (0.6^5 = -22 dB
+  // behind the 25 deg biopsy needle in the sagittal plane instead of -4.4 dB, a dark band over the
+  // gland); taking the shallowest cell of any weight shadowed a needle crossing the transverse
+  // plane obliquely before its own in-plane echo.
   for (const Rod& rod : sc.rods) {
     const Vec3 da = rod.a - f.origin, db = rod.b - f.origin;
     const double len = (rod.b - rod.a).norm();
     if (!std::isfinite(len) || len <= 0) continue;
     const int n = std::min(20000, static_cast<int>(std::ceil(len / 2.5e-4)));
-    for (int k = 0; k <= n; ++k) {
-      const double u = static_cast<double>(k) / n;
-      const Vec3 q = da + u * (db - da);
-      const double e = std::max(0.0, std::abs(q.dot(f.normal)) - rod.radius);
-      const double we = std::exp(-0.5 * e * e / (sig_e * sig_e));
-      if (we < 0.05) continue;
-      const double s = q.dot(f.right), t = q.dot(f.up);
-      double bf, depth, half;  // beam index, depth, half-width of the rod in beams
-      if (kind_ == PlaneKind::Transverse) {
-        const double rho = std::hypot(s, t);
-        depth = rho - r;
-        bf = (std::atan2(s, t) + h) / (2 * h) * NB_ - 0.5;
-        half = rod.radius / std::max(rho, 1e-4) / (2 * h / NB_);
-      } else {
-        depth = t - r;
-        bf = (s + 0.5 * set_.linear_width) / set_.linear_width * NB_ - 0.5;
-        half = rod.radius / (set_.linear_width / NB_);
+    // visits the rod's samples seen by the slice: fn(depth cell, transmitted fraction, beams lo..hi)
+    auto visit = [&](auto&& fn) {
+      for (int k = 0; k <= n; ++k) {
+        const double u = static_cast<double>(k) / n;
+        const Vec3 q = da + u * (db - da);
+        const double e = std::max(0.0, std::abs(q.dot(f.normal)) - rod.radius);
+        const double we = std::exp(-0.5 * e * e / (sig_e * sig_e));
+        if (we < 0.05) continue;
+        const double s = q.dot(f.right), t = q.dot(f.up);
+        double bf, depth, half;  // beam index, depth, half-width of the rod in beams
+        if (kind_ == PlaneKind::Transverse) {
+          const double rho = std::hypot(s, t);
+          depth = rho - r;
+          bf = (std::atan2(s, t) + h) / (2 * h) * NB_ - 0.5;
+          half = rod.radius / std::max(rho, 1e-4) / (2 * h / NB_);
+        } else {
+          depth = t - r;
+          bf = (s + 0.5 * set_.linear_width) / set_.linear_width * NB_ - 0.5;
+          half = rod.radius / (set_.linear_width / NB_);
+        }
+        const int kk = static_cast<int>(std::floor(depth / D * NS_));
+        if (kk < 0 || kk >= NS_) continue;
+        const int lo = std::max(0, static_cast<int>(std::floor(bf - half))), hi = std::min(NB_ - 1, static_cast<int>(std::ceil(bf + half)));
+        fn(kk, static_cast<float>(1.0 - rod.shadow * we), lo, hi);
       }
-      const int kk = static_cast<int>(std::floor(depth / D * NS_));
-      if (kk < 0 || kk >= NS_) continue;
-      const float m = static_cast<float>(1.0 - rod.shadow * we);
-      for (int b = static_cast<int>(std::floor(bf - half)); b <= static_cast<int>(std::ceil(bf + half)); ++b) {
-        if (b < 0 || b >= NB_) continue;
-        float& mk = mark_[static_cast<size_t>(b) * NS_ + kk];
-        mk = std::min(mk, m);
-      }
-    }
+    };
+    std::fill(rod_k_.begin(), rod_k_.end(), NS_);
+    std::fill(rod_m_.begin(), rod_m_.end(), 1.0f);
+    visit([&](int, float m, int lo, int hi) {
+      for (int b = lo; b <= hi; ++b) rod_m_[b] = std::min(rod_m_[b], m);
+    });
+    visit([&](int kk, float m, int lo, int hi) {
+      for (int b = lo; b <= hi; ++b)
+        if (m <= 1.0f - 0.9f * (1.0f - rod_m_[b])) rod_k_[b] = std::min(rod_k_[b], kk);
+    });
+    for (int b = 0; b < NB_; ++b)
+      if (rod_k_[b] < NS_) mark_[static_cast<size_t>(b) * NS_ + rod_k_[b]] *= rod_m_[b];  // rods in a row: each stops its part
   }
   // round-trip attenuation factor of one sample step, per label
   float fac[128 + 1];

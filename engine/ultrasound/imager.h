@@ -110,6 +110,8 @@ class PlaneImager {
   int NB_ = 0, NS_ = 0;
   std::vector<int> beam_pix_;         // [NB*NS] nearest pixel of each beam sample, -1 outside
   std::vector<float> T_, mark_;       // [NB*NS] transmitted amplitude; rod shadow marks
+  std::vector<int> rod_k_;            // [NB] per rod: shallowest depth cell where the beam meets it (NS: none)
+  std::vector<float> rod_m_;          // [NB] per rod: fraction of the beam it lets through there
   // PSF
   std::vector<float> klat_, kax_;     // normalised Gaussian taps
   float lattice_ = 1e-4f;             // speckle lattice step [m]
