@@ -359,8 +359,8 @@ Renderer::Renderer(RenderScene scene) : scene_(std::move(scene)), gpu_(std::make
     sg.index_count = static_cast<int>(rs.indices.size());
   }
   g.init_batch(g.spheres, unit_sphere(18, 12));
-  // the coarse spheres are scaled so that their outline (an N-gon at the equator) encloses the
-  // area of the circle: an inscribed polygon would shrink the small seed and target dots
+  // the coarse spheres are scaled so that their outline (an N-gon at the equator) has the area of
+  // the sphere's disc: an inscribed polygon would shrink the small seed and target dots
   auto area_true_sphere = [](int slices, int stacks) {
     PrimitiveMesh m = unit_sphere(slices, stacks);
     const double kPi = 3.14159265358979323846;
