@@ -224,6 +224,20 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
   tx_ = (W_ - 1) / kTexStep + 2;
   ty_ = (H_ - 1) / kTexStep + 2;
   tex_.assign(static_cast<size_t>(tx_) * ty_, 0.5f);
+  // per pixel column: its displacement-grid cell and weight (the same for every row), as scatter()
+  // computed them per pixel
+  col_a_.assign(W_, 0);
+  col_wa_.assign(W_, 0.0f);
+  for (int i = 0; i < W_; ++i) {
+    const float s = static_cast<float>(pixel_s(i));
+    const float afx = (s - static_cast<float>(gs0_)) * static_cast<float>(1.0 / g_);
+    col_a_[i] = std::clamp(static_cast<int>(afx), 0, gx_ - 2);
+    col_wa_[i] = std::clamp(afx - col_a_[i], 0.0f, 1.0f);
+  }
+  for (const UsComponent& c : an_.components) {
+    comp_ac_.push_back(acoustics(c.tissue));
+    comp_prostate_.push_back(c.tissue == Tissue::Prostate ? 1 : 0);
+  }
   rank_comp_.assign(32, 0);
   for (int c = 0; c < nc; ++c) rank_comp_[an_.components[c].priority] = c;
   rest_.resize(3 * an_.rest.size());
@@ -527,14 +541,13 @@ void PlaneImager::scatter(const PlaneFrame& f) {
       const uint8_t lab = img_.label[p];
       if (!img_.in_view[p] || lab == 255) continue;
       const int c = lab & 63;
-      const TissueAcoustics& ac = acoustics(an_.components[c].tissue);
+      const TissueAcoustics& ac = comp_ac_[c];
       const bool wall = lab >= 64;
+      const bool prostate = comp_prostate_[c] != 0;
       float echo = wall ? ac.wall_echo : ac.echo;
-      if (echo <= 0.0f && !(an_.components[c].tissue == Tissue::Prostate)) continue;
-      const float s = static_cast<float>(pixel_s(i));
-      const float afx = (s - static_cast<float>(gs0_)) * inv_g;
-      const int a = std::clamp(static_cast<int>(afx), 0, gx_ - 2);
-      const float wa = std::clamp(afx - a, 0.0f, 1.0f);
+      if (echo <= 0.0f && !prostate) continue;
+      const int a = col_a_[i];     // displacement-grid column of pixel column i (fixed)
+      const float wa = col_wa_[i];
       const float* fc = &field_[static_cast<size_t>(c) * nodes * 4];
       const float* n00 = &fc[(static_cast<size_t>(b) * gx_ + a) * 4];
       const float* n10 = n00 + 4;
@@ -544,7 +557,7 @@ void PlaneImager::scatter(const PlaneFrame& f) {
       float X[3];
       for (int d = 0; d < 3; ++d)
         X[d] = x0[d] + i * dr[d] - (w00 * n00[d] + w10 * n10[d] + w01 * n01[d] + w11 * n11[d]);
-      if (!wall && an_.components[c].tissue == Tissue::Prostate && !vol.empty()) {
+      if (!wall && prostate && !vol.empty()) {
         // trilinear look-up of the rest-space echo volume (zones, lesion, urethra)
         const float qx = (X[0] - vo[0]) * vinv, qy = (X[1] - vo[1]) * vinv, qz = (X[2] - vo[2]) * vinv;
         if (qx >= 0 && qy >= 0 && qz >= 0 && qx < vol.nx - 1 && qy < vol.ny - 1 && qz < vol.nz - 1) {
