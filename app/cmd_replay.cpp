@@ -98,6 +98,8 @@ int replay(const ReplayArgs& a) {
   const uint64_t h = runner.hash();
   const auto& rr = runner.applier().refusals();
   for (int i = 0; i < rr.size(); ++i) spdlog::warn("{}", rr.at(i).describe());
+  if (!a.hash_only)  // commands the tools adjusted to their limits (--hash prints the hash alone)
+    for (const std::string& l : scene_tool_reports(scene)) spdlog::warn("{}", l);
   if (a.hash_only) {
     std::printf("%s\n", hex16(h).c_str());
   } else {

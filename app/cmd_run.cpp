@@ -198,6 +198,8 @@ int run_live(const RunArgs& a) {
   if (device && device->disconnected()) spdlog::warn("{}", device->status());
   const auto& rr = loop.applier().refusals();
   for (int i = 0; i < rr.size(); ++i) spdlog::warn("{}", rr.at(i).describe());
+  if (!a.hash_only)  // commands the tools adjusted to their limits (--hash prints the hash alone)
+    for (const std::string& l : scene_tool_reports(scene)) spdlog::warn("{}", l);
   if (a.hash_only) {
     std::printf("%s\n", hex16(h).c_str());
   } else {

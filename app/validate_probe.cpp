@@ -88,7 +88,10 @@ DisplacementStudy run_displacement_study(const std::string& source_dir, const st
   st.prostate = displacement_stats(m, pc, st.ref, st.x, Vec3::UnitZ());
   st.probe_force = probe->reaction_force();
   st.reports = probe->reports();
-  if (filling) st.reports.insert(st.reports.end(), filling->reports().begin(), filling->reports().end());
+  if (filling) {
+    const std::vector<std::string> f = filling->reports();  // formatted from the ring, by value
+    st.reports.insert(st.reports.end(), f.begin(), f.end());
+  }
   return st;
 }
 

@@ -1,4 +1,5 @@
-// `prostatesim_bench --fast-error SCENE SUBSTEPS MASS_SCALING TRIPLETS DURATION_S [REF_SUBSTEPS [FAST_NU]]`:
+// `prostatesim_bench --fast-error SCENE SUBSTEPS MASS_SCALING TRIPLETS DURATION_S [REF_SUBSTEPS [FAST_NU
+//  [FAST_PRESSURE [PRESSURE_ITERATIONS]]]]`:
 // error of a fast configuration (SUBSTEPS per tick, 0 = the file's; solver.mass_scaling 0/1, -1 =
 // the file's; solver.triplets = TRIPLETS, 0 = all)
 // against the converged reference (the paper's scheme, every triplet, REF_SUBSTEPS per tick,
@@ -8,6 +9,9 @@
 // (<= 0.5 mm), volumes (exact), and whether the budget holds (exit 0) or not (exit 1).
 // FAST_NU > 0 sets the prostate material's local Poisson ratio in the fast run only (the reference
 // keeps the file's): the error of a softer local volume term, against the file's model.
+// The reference always runs the explicit pressure (materials' `pressure: implicit` off): the
+// converged explicit scheme. FAST_PRESSURE 0/1 sets the fast run's prostate material explicit/implicit
+// (-1: the file's); PRESSURE_ITERATIONS > 0 sets its solver.pressure_iterations.
 #include <cstdio>
 #include <cstdlib>
 
@@ -19,11 +23,16 @@
 namespace ps::bench {
 
 int fast_error(const std::string& scene, int substeps, int mass_scaling, int triplets, double duration,
-               int ref_substeps, double fast_nu) {
+               int ref_substeps, double fast_nu, int fast_pressure, int pressure_iterations) {
   const ScenarioSpec ref_spec0 = realtime_scene(scene);
   if (ref_substeps <= 0) ref_substeps = 2 * ref_spec0.substeps;
-  const ScenarioSpec ref_spec = realtime_scene(scene, 0, ref_substeps, 0, 0);  // plain explicit, every element every substep
+  ScenarioSpec ref_spec = realtime_scene(scene, 0, ref_substeps, 0, 0);  // plain explicit, every element every substep
+  for (MaterialSpec& mat : ref_spec.materials) mat.implicit_pressure = false;
   ScenarioSpec fast_spec = realtime_scene(scene, triplets, substeps, mass_scaling);
+  if (fast_pressure >= 0)
+    for (MaterialSpec& mat : fast_spec.materials)
+      if (mat.name == "prostate") mat.implicit_pressure = fast_pressure != 0;
+  if (pressure_iterations > 0) fast_spec.pressure_iterations = pressure_iterations;
   if (fast_nu > 0.0)
     for (MaterialSpec& mat : fast_spec.materials)
       if (mat.name == "prostate") mat.poisson = fast_nu;
@@ -32,11 +41,12 @@ int fast_error(const std::string& scene, int substeps, int mass_scaling, int tri
   const Vec3 target = realtime_target(scene, ref_spec);
   std::printf("%s: reference all triplets, %d substeps (estimate %.4g ms); fast %d triplets, %d substeps "
               "(estimate %.4g ms), mass scaling %s (added inertia %.4g g, largest factor %.3g), multirate %s "
-              "(%d of %d tet elements once per tick); %.3f s\n",
+              "(%d of %d tet elements once per tick), implicit pressure on %d nodes x %d solve(s); %.3f s\n",
               scene.c_str(), ref_model->substeps, ref_model->stable_dt_estimate * 1e3, triplets, fast_model->substeps,
               fast_model->stable_dt_estimate * 1e3, fast_spec.mass_scaling ? "on" : "off",
               fast_model->added_inertia * 1e3, fast_model->largest_inertia_factor, fast_spec.multirate ? "on" : "off",
-              fast_model->tets.count() - fast_model->tets.fast_count, fast_model->tets.count(), duration);
+              fast_model->tets.count() - fast_model->tets.fast_count, fast_model->tets.count(),
+              fast_model->tet_pressure.size(), fast_model->tet_pressure.iterations, duration);
   std::fflush(stdout);
   const Trajectory ref = record_trajectory(ref_spec, ref_model, duration, target);
   const Trajectory fast = record_trajectory(fast_spec, fast_model, duration, target);

@@ -50,6 +50,7 @@ bool timed_step(Simulation& sim, double dt, StageTimes& times) {
       case Stage::RigidForces: gather_rigid_forces(m, s); break;
       case Stage::Integrate: integrate(m, s, dt); break;
       case Stage::RigidIntegrate: integrate_rigid_bodies(m, s, dt); break;
+      case Stage::TetPressure: project_tet_pressure(m, s, dt); break;
       case Stage::LocalConstraints: apply_local_constraints(m, s, t_end); break;
       case Stage::Volume: ok = project_volumes(m, s); break;
       case Stage::AdjustVelocity: adjust_velocities(s, dt); break;

@@ -134,8 +134,69 @@ EditResult EditorCommands::set_needle_target(const std::string& needle, const Ve
   return doc_.set_vec3(needle_key(needle) + ".target_mm", t);
 }
 
+std::vector<FillSegmentView> EditorCommands::fill_segments() const {
+  std::vector<FillSegmentView> out;
+  const ScenarioSpec* s = spec();
+  if (!s || !s->filling) return out;
+  const std::shared_ptr<const Model> m = doc_.model();
+  for (size_t i = 0; i < s->filling->schedule.size(); ++i) {
+    const FillSpec& f = s->filling->schedule[i];
+    FillSegmentView v;
+    v.index = static_cast<int>(i);
+    v.component = f.component;
+    v.kind = f.kind;
+    v.t0 = f.t0;
+    v.t1 = f.t1;
+    v.rest_ml = NAN;
+    if (m) {
+      const int c = m->find_component(f.component);
+      const int si = c >= 0 ? m->components[static_cast<size_t>(c)].surface : -1;
+      if (si >= 0) v.rest_ml = 1e6 * m->surfaces[static_cast<size_t>(si)].rest_volume;
+    }
+    const std::string k = "filling.schedule[" + std::to_string(i) + "]";
+    switch (f.kind) {  // the spec's value in SI units; the field's in the file's
+      case FillSpec::Rate:
+        v.key = k + ".rate_ml_s";
+        v.label = "fill rate [ml/s]";
+        v.value = f.value * 1e6;
+        v.volume_ml = NAN;
+        break;
+      case FillSpec::Target:
+        v.key = k + ".target_ml";
+        v.label = "volume [ml]";
+        v.value = f.value * 1e6;
+        v.volume_ml = v.value;
+        break;
+      case FillSpec::Factor:
+        v.key = k + ".target_factor";
+        v.label = "volume [x rest]";
+        v.value = f.value;
+        v.volume_ml = f.value * v.rest_ml;
+        break;
+    }
+    out.push_back(std::move(v));
+  }
+  return out;
+}
+
+EditResult EditorCommands::set_fill_value(int i, double v) {
+  const std::vector<FillSegmentView> segs = fill_segments();
+  if (i < 0 || i >= static_cast<int>(segs.size())) return refused("filling.schedule", "no filling segment " + std::to_string(i));
+  return doc_.set_number(segs[static_cast<size_t>(i)].key, v);
+}
+
 EditResult EditorCommands::set_fill_target_ml(int i, double ml) {
-  return doc_.set_number("filling.schedule[" + std::to_string(i) + "].target_ml", ml);
+  const std::vector<FillSegmentView> segs = fill_segments();
+  const std::string k = "filling.schedule[" + std::to_string(i) + "]";
+  if (i >= 0 && i < static_cast<int>(segs.size())) {
+    const FillSegmentView& v = segs[static_cast<size_t>(i)];
+    if (v.kind == FillSpec::Rate) return refused(v.key, "this segment is given as a fill rate, not a volume");
+    if (v.kind == FillSpec::Factor) {
+      if (!(v.rest_ml > 0.0)) return refused(v.key, "the organ's rest volume is unknown: fix the scenario first");
+      return doc_.set_number(v.key, ml / v.rest_ml);
+    }
+  }
+  return doc_.set_number(k + ".target_ml", ml);
 }
 EditResult EditorCommands::set_fill_rate_ml_s(int i, double v) {
   return doc_.set_number("filling.schedule[" + std::to_string(i) + "].rate_ml_s", v);

@@ -28,6 +28,21 @@ struct RegionView {
   bool lesion = false;             // named *lesion* / *tumo*
 };
 
+// One segment of filling.schedule as the editor shows it: the field the file gives it by (a rate,
+// a volume in ml or a factor of the organ's rest volume; filling_parse.h) and, for a volume, what
+// it is in ml. A segment given as target_factor shows and edits its factor; it has no target_ml.
+struct FillSegmentView {
+  int index = 0;
+  std::string component;
+  FillSpec::Kind kind = FillSpec::Rate;
+  std::string key;                 // key path of its field: "filling.schedule[0].target_factor"
+  const char* label = "";          // "fill rate [ml/s]", "volume [ml]", "volume [x rest]"
+  double value = 0.0;              // that field's value, in the file's unit (ml/s, ml, factor)
+  double volume_ml = 0.0;          // Target, Factor: the target volume [ml] (factor x rest); Rate: NAN
+  double rest_ml = 0.0;            // the organ's rest volume [ml] (NAN when the model is not built)
+  double t0 = 0.0, t1 = 0.0;       // ramp_s [s]
+};
+
 class EditorCommands {
  public:
   explicit EditorCommands(ScenarioDocument doc) : doc_(std::move(doc)) {}
@@ -54,6 +69,12 @@ class EditorCommands {
   EditResult set_needle_target(const std::string& needle, const Vec3& target_mm);
 
   // --- bladder filling: segment i of filling.schedule ---
+  std::vector<FillSegmentView> fill_segments() const;
+  // Sets the segment's own field (fill_segments()[i].key) to v in its unit.
+  EditResult set_fill_value(int segment, double v);
+  // The target volume in ml: written as target_ml, or, for a segment given as target_factor, as
+  // the factor ml / rest volume (the file keeps its form). Refused naming the segment's field
+  // for a rate segment.
   EditResult set_fill_target_ml(int segment, double ml);
   EditResult set_fill_rate_ml_s(int segment, double ml_s);
   EditResult set_max_fill_rate_ml_s(double ml_s);

@@ -281,15 +281,13 @@ void fill_probe_panel(EditorCommands& c, FieldErrors& errs) {
   if (s && s->filling) {
     ImGui::TextColored(kHead, "Bladder filling");
     number_field(errs, "max rate [ml/s]", "filling.max_rate_ml_s", s->filling->max_rate * 1e6, [&](double v) { return c.set_max_fill_rate_ml_s(v); });
-    for (int i = 0; i < static_cast<int>(s->filling->schedule.size()); ++i) {
-      ImGui::PushID(i);
-      const std::string k = "filling.schedule[" + std::to_string(i) + "]";
-      ImGui::TextColored(kDim, "segment %d", i);
-      const std::string vol = c.doc().value_text(k + ".target_ml"), rate = c.doc().value_text(k + ".rate_ml_s");
-      if (!vol.empty() || rate.empty())
-        number_field(errs, "volume [ml]", k + ".target_ml", number_or(vol, NAN), [&](double v) { return c.set_fill_target_ml(i, v); });
-      if (!rate.empty())
-        number_field(errs, "fill rate [ml/s]", k + ".rate_ml_s", number_or(rate, NAN), [&](double v) { return c.set_fill_rate_ml_s(i, v); });
+    for (const FillSegmentView& v : c.fill_segments()) {
+      ImGui::PushID(v.index);
+      ImGui::TextColored(kDim, "segment %d: %s, %.3g to %.3g s", v.index, v.component.c_str(), v.t0, v.t1);
+      const int i = v.index;
+      number_field(errs, v.label, v.key, v.value, [&](double x) { return c.set_fill_value(i, x); });
+      if (v.kind == FillSpec::Factor && std::isfinite(v.volume_ml))
+        ImGui::TextColored(kDim, "  = %.4g ml (rest volume %.4g ml)", v.volume_ml, v.rest_ml);
       ImGui::PopID();
     }
   }

@@ -25,8 +25,11 @@ struct ToolReadout {
   bool active = false;             // the instrument the user drives now
 };
 
-// SnapshotEvent::kind of a command the tools refused (tool-specific kinds are below 255).
+// SnapshotEvent::kind of a command the tools refused (tool-specific kinds are below 254).
 inline constexpr uint8_t kSnapshotEventRefused = 255;
+// SnapshotEvent::kind of a command a tool took but adjusted to its limits (a fill rate clamped, a
+// probe move lengthened to the speed limits); the text says what was asked and what was used.
+inline constexpr uint8_t kSnapshotEventAdjusted = 254;
 
 // An event since the previous snapshot (puncture, bone hit, core, seed, fault, refused command).
 struct SnapshotEvent {

@@ -150,6 +150,11 @@ struct TetElements {
   std::vector<double> node_inv_vol0;  // [nodes] 1 / (sum of V0/4 over the node's elements) [1/m^3]
   std::vector<double> node_kappa;  // [nodes] volumetric modulus lambda + mu of the node's particle [Pa]
   std::vector<int> node_slot;      // [n particles] index into nodes, -1 when untouched
+  // pressure: implicit (TetPressure): the node's volumetric term is a constraint solved after
+  // integration, not a force; node_kappa_explicit is node_kappa, or 0 for those nodes (the
+  // force passes and the stability estimates read it; the energy reads node_kappa)
+  std::vector<uint8_t> node_implicit;       // [nodes] 1: the node's pressure is implicit
+  std::vector<double> node_kappa_explicit;  // [nodes] kappa of the explicit force [Pa]
   // Multi-rate (solver.multirate, compile.cpp partition_tet_rates): elements [0, fast_count) are
   // evaluated every substep; the rest touch only particles whose own stable step admits the whole
   // tick, so their force is evaluated once per tick and applied as the tick's impulse
@@ -158,6 +163,36 @@ struct TetElements {
   int fast_count = 0;
   int count() const { return static_cast<int>(vol0.size()); }
   bool multirate() const { return fast_count < count(); }
+};
+
+// Implicit nodal pressure of the tet model (materials with `pressure: implicit`; docs/model.md
+// "Implicit pressure"; built by build_tet_pressure, engine/model/tet_pressure.cpp, solved by
+// engine/step/tet_pressure.cpp). Each such node n has the compliant constraint
+//   C_n(x) = V_n(x) - V0_n,  compliance alpha_n = V0_n / kappa_n,
+// whose energy C^2 / (2 alpha) is the explicit term 1/2 kappa V0 (J_n - 1)^2. After integration,
+// each substep h solves the linearised backward-Euler (XPBD) step
+//   (J W J^T + alpha / h^2) dlambda = -C(x) - alpha/h^2 lambda,   x += W J^T dlambda,
+// with J = dC/dx and W the inverse inertial masses (0 on fixed axes). The matrix is taken at rest
+// and factored once (sparse LDL^T, fill-reducing order): the pressure wave, which set the explicit
+// substep at nu 0.49, no longer limits it, and the solve is exact in one step for a linear
+// constraint; `iterations` re-linearise at the current positions.
+struct TetPressure {
+  std::vector<int> row_slot;       // [k] tet node slot (TetElements::nodes index) of row r, ascending
+  std::vector<int> slot_row;       // [tet nodes] row of the slot, -1: explicit node
+  std::vector<int> tets;           // elements with at least one implicit node, ascending
+  std::vector<int> particles;      // particles of those elements, ascending (the correction's support)
+  std::vector<double> vol0;        // [k] rest volume share V0_n [m^3]
+  std::vector<double> alpha;       // [k] compliance V0_n / kappa_n [m^5/N]
+  double h = 0.0;                  // substep the factor was built for [s] (alpha / h^2 on its diagonal)
+  int iterations = 1;              // linearised solves per substep
+  // A = P^T L D L^T P: perm[i] is the system row at position i of the factored order; L unit lower
+  // triangular, strictly-lower entries by column (CSC)
+  std::vector<int> perm;           // [k]
+  std::vector<int> l_start;        // [k + 1]
+  std::vector<int> l_row;          // [nnz]
+  std::vector<double> l_val;       // [nnz] [-]
+  std::vector<double> d;           // [k] [m^4/kg]
+  int size() const { return static_cast<int>(row_slot.size()); }
 };
 
 // Shell elements of membrane components (material `model: shell`, docs/model.md "Shell model"):
@@ -226,6 +261,7 @@ struct Model {
   std::vector<uint8_t> shape_memory; // [n] 1 if the particle carries a shape-memory force
   StrainClusters strain;           // strain-memory clusters (empty: no `model: strain` material)
   TetElements tets;                // tet-model elements (empty: no `model: tet` material)
+  TetPressure tet_pressure;        // implicit nodal pressure (empty: no `pressure: implicit` material)
   ShellElements shells;            // shell-model membranes (empty: no `model: shell` material)
   bool any_shape_memory = true;    // some particle has k_e > 0 (else the stage is left out)
 

@@ -71,6 +71,10 @@ uint64_t model_hash(const Model& m) {
   f.vec(m.tets.vol0);
   f.vec(m.tets.mu);
   f.vec(m.tets.node_kappa);
+  f.vec(m.tets.node_implicit);
+  f.vec(m.tet_pressure.row_slot);
+  f.pod(m.tet_pressure.h);
+  f.pod(m.tet_pressure.iterations);
   f.pod(m.tets.fast_count);
   f.vec(m.shells.tri);
   f.vec(m.shells.bm);

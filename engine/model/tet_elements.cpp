@@ -138,6 +138,8 @@ std::vector<std::string> build_tet_elements(Model& m, const std::vector<TetParti
       te.nodes.push_back(p);
       te.node_inv_vol0.push_back(1.0 / node_vol[p]);
       te.node_kappa.push_back(mat[p].lambda + mat[p].mu);
+      te.node_implicit.push_back(mat[p].implicit_pressure ? 1 : 0);
+      te.node_kappa_explicit.push_back(mat[p].implicit_pressure ? 0.0 : mat[p].lambda + mat[p].mu);
     } else if (mat[p].mu > 0.0) {
       ++orphans;
     }

@@ -21,6 +21,7 @@ inline constexpr double kTetMaxEdgeSpacings = 2.6;
 struct TetParticle {
   double mu = 0.0;      // shear modulus [Pa]
   double lambda = 0.0;  // Lamé lambda [Pa]
+  bool implicit_pressure = false;  // its node's volumetric term is the implicit constraint (Model::tet_pressure)
 };
 
 // A pair of components whose interface gets elements spanning it (links: between two tet-model

@@ -106,6 +106,9 @@ class TickRunner {
   void set_hash_observer(HashObserver* o, int every) {
     hash_observer_ = o;
     hash_every_ = every;
+    // sizes the simulation's hash buffer here, not at the first hashed tick (every save has the
+    // same length, so later hashes reuse it: no allocation on the physics thread)
+    if (o) sim_.hash();
   }
   int hash_every() const { return hash_observer_ ? hash_every_ : 0; }
 

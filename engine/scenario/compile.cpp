@@ -8,6 +8,7 @@
 #include <chrono>
 
 #include "engine/model/discrete_coordinates.h"
+#include "engine/model/tet_pressure.h"
 #include "engine/scenario/compile_stages.h"
 #include "engine/scenario/scene_regions.h"
 #include "engine/scenario/size_estimate.h"
@@ -40,6 +41,8 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   compile_elements(spec, m, work);                       // strain clusters, tet elements (use the surfaces)
   compile_fibres(m);                                     // active fibres
   compile_time_step(spec, m, work);                      // stable substep; multirate, mass scaling, substeps
+  if (std::string note = build_tet_pressure(m, spec.pressure_iterations); !note.empty())
+    work.notes.push_back(note);                          // implicit pressure: factor for the final substep
 
   const auto& warnings = work.warnings;
   const auto& notes = work.notes;

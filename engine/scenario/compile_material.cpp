@@ -69,6 +69,7 @@ void component_materials(const ScenarioSpec& spec, Model& m, CompileWork& work) 
       const StrainModuli sm = strain_moduli(*mat.young, nu);
       tp.mu = sm.mu;
       tp.lambda = sm.lambda;
+      tp.implicit_pressure = mat.implicit_pressure;
       any_tet = true;
     }
     if (mat.strain_model) {

@@ -126,7 +126,7 @@ std::vector<double> stiffness_proxy(const Model& m, bool fast_only) {
     const Vec3 gi[4] = {g0, g1, g2, g3};
     for (int i = 0; i < 4; ++i) {
       const int p = te.v[4 * t + i];
-      d[p] += te.vol0[t] * (te.mu[t] + te.node_kappa[te.node_slot[p]]) * gi[i].squaredNorm();
+      d[p] += te.vol0[t] * (te.mu[t] + te.node_kappa_explicit[te.node_slot[p]]) * gi[i].squaredNorm();
     }
   }
   // shell triangles: A0 t (2 mu + lambda) |g_i|^2 per vertex (g_1, g_2 the rows of Dm^-1, g_0 minus

@@ -92,7 +92,7 @@ RegionSpec parse_region(const YamlReader& r, const YAML::Node& v, const std::str
 MaterialSpec parse_material(const YamlReader& r, const std::string& name, const YAML::Node& v) {
   const std::string k = "materials." + name;
   r.only_keys(v, k, {"young_kpa", "k_e_n_m", "density_kg_m3", "damping_1_s", "incompressible", "k_c_n", "k_f_n",
-                     "model", "poisson", "k_s_n_m", "thickness_mm"});
+                     "model", "poisson", "k_s_n_m", "thickness_mm", "pressure"});
   MaterialSpec m;
   m.name = name;
   m.loc = loc_of(r, v);
@@ -122,6 +122,12 @@ MaterialSpec parse_material(const YamlReader& r, const std::string& name, const 
     m.k_s = r.ranged(v["k_s_n_m"], k + ".k_s_n_m", 1e-6, kMaxStiffnessNm, "N/m");
   }
   if (m.tet_model && !m.young) r.fail(v, k, "model: tet needs young_kpa");
+  if (v["pressure"]) {
+    if (!m.tet_model) r.fail(v["pressure"], k + ".pressure", "pressure only applies to model: tet");
+    const std::string how = r.string(v["pressure"], k + ".pressure");
+    if (how == "implicit") m.implicit_pressure = true;
+    else if (how != "explicit") r.fail(v["pressure"], k + ".pressure", "must be explicit or implicit");
+  }
   if (v["thickness_mm"]) {
     if (!m.shell_model) r.fail(v["thickness_mm"], k + ".thickness_mm", "thickness_mm only applies to model: shell");
     m.thickness = r.ranged(v["thickness_mm"], k + ".thickness_mm", 0.05, 50.0, "mm") * 1e-3;
@@ -307,9 +313,14 @@ ScenarioSpec parse_scenario_impl(const std::string& text, const std::string& pat
   }
   if (root["solver"]) {
     const YAML::Node t = root["solver"];
-    r.only_keys(t, "solver", {"redistribution", "triplets", "mass_scaling", "multirate"});
+    r.only_keys(t, "solver", {"redistribution", "triplets", "mass_scaling", "multirate", "pressure_iterations"});
     if (t["mass_scaling"]) s.mass_scaling = r.boolean(t["mass_scaling"], "solver.mass_scaling");
     if (t["multirate"]) s.multirate = r.boolean(t["multirate"], "solver.multirate");
+    if (t["pressure_iterations"]) {
+      s.pressure_iterations = r.integer(t["pressure_iterations"], "solver.pressure_iterations");
+      if (s.pressure_iterations < 1 || s.pressure_iterations > 8)
+        r.fail(t["pressure_iterations"], "solver.pressure_iterations", "must be in 1..8");
+    }
     if (t["triplets"]) {
       if (t["triplets"].IsScalar() && t["triplets"].Scalar() == "all") s.max_triplets = 0;
       else {

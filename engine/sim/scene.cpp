@@ -54,4 +54,17 @@ Scene load_scene(const std::string& path) {
   return sc;
 }
 
+std::vector<std::string> scene_tool_reports(const Scene& scene) {
+  std::vector<std::string> out;
+  if (!scene.sim) return out;
+  const auto& tools = scene.sim->tools();
+  if (scene.probe_tool >= 0)
+    for (const std::string& l : static_cast<const ProbeTool&>(*tools.at(static_cast<size_t>(scene.probe_tool))).reports())
+      out.push_back("probe: " + l);
+  if (scene.filling_tool >= 0)
+    for (const std::string& l : static_cast<const FillingTool&>(*tools.at(static_cast<size_t>(scene.filling_tool))).reports())
+      out.push_back("filling: " + l);
+  return out;
+}
+
 }  // namespace ps

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "engine/scenario/compile.h"
 #include "engine/spec/scenario_spec.h"
@@ -28,6 +29,10 @@ struct Scene {
 Scene build_scene(const ScenarioSpec& spec);
 // Parses the file, then build_scene; content_hash is set from the file's bytes.
 Scene load_scene(const std::string& path);
+// The commands the scene's probe and filling took but adjusted to their limits (scripted and
+// live: "probe: t=0.15 s: probe command lengthened from ..."), oldest first, formatted from the
+// tools' report rings (reader side, allocates: between ticks or after the run).
+std::vector<std::string> scene_tool_reports(const Scene& scene);
 // Hash of a file's bytes (FNV-1a 64); throws InputError when unreadable.
 uint64_t file_content_hash(const std::string& path);
 

@@ -47,6 +47,10 @@ struct MaterialSpec {
   std::optional<double> thickness; // shell wall thickness [m]
   std::optional<double> poisson;   // local Poisson ratio of the strain term [-], in [0, 0.5)
   std::optional<double> k_s;       // raw strain stiffness: shear modulus x spacing [N/m]
+  // pressure: implicit (model: tet only): the volumetric term kappa (J_n - 1) of the material's
+  // nodes is solved as a compliant constraint per substep (engine/step/tet_pressure.cpp) instead
+  // of an explicit force, so it does not set the stable substep (docs/model.md "Implicit pressure")
+  bool implicit_pressure = false;
   SourceLoc loc;
 };
 
@@ -195,6 +199,8 @@ struct ScenarioSpec {
   int max_triplets = 0;            // solver.triplets: all (0) | N best-conditioned per particle
   bool mass_scaling = false;       // solver.mass_scaling: scale inertia to the file's substep
   bool multirate = false;          // solver.multirate: tet elements that admit the tick run once per tick
+  int pressure_iterations = 1;     // solver.pressure_iterations: linearised solves of the implicit
+                                   // pressure per substep (materials with pressure: implicit)
   std::vector<MaterialSpec> materials;
   std::vector<ComponentSpec> components;
   std::vector<ConstraintSpec> constraints;

@@ -58,6 +58,12 @@ struct State {
   std::vector<Vec3> tet_slow_f;         // [n] multi-rate (symmetric split): the slow elements' force at
                                         // the end of the last tick, the next tick's opening half kick [N]
   uint8_t tet_slow_f_valid = 0;         // 1 once tet_slow_f holds the force at the current positions
+  // implicit pressure scratch (Model::tet_pressure; overwritten before use every substep, so not
+  // part of save() or the state hash)
+  std::vector<double> pressure_rhs;     // [k] right-hand side, then the multiplier step [m^3] / [kg/m]
+  std::vector<double> pressure_work;    // [k] triangular-solve scratch
+  std::vector<double> pressure_lambda;  // [k] multiplier accumulated over the substep's solves [kg/m]
+  std::vector<Vec3> pressure_dx;        // [n] position correction of the support particles [m kg]
   StepFault fault;
   int64_t clamp_count = 0;         // times a safety clamp acted
 };

@@ -34,6 +34,7 @@ const char* stage_name(Stage s) {
     case Stage::ToolAfter: return "tool_after";
     case Stage::ShellElastic: return "shell_elastic";
     case Stage::TetTickEnd: return "tet_tick_end";
+    case Stage::TetPressure: return "tet_pressure";
   }
   return "?";
 }
@@ -69,6 +70,7 @@ void Simulation::build_pipeline() {
   if (rigid) pipeline_.push_back(Stage::RigidForces);
   pipeline_.push_back(Stage::Integrate);
   if (rigid) pipeline_.push_back(Stage::RigidIntegrate);
+  if (m.tet_pressure.size() > 0) pipeline_.push_back(Stage::TetPressure);  // before the local constraints: they win
   if (!m.fixed.empty() || !m.imposed.empty() || !m.half_spaces.empty())
     pipeline_.push_back(Stage::LocalConstraints);
   if (tools) pipeline_.push_back(Stage::ToolConstraints);
@@ -109,6 +111,7 @@ bool Simulation::step(double dt, StageProbe* probe) {
       case Stage::RigidForces: gather_rigid_forces(m, s); break;
       case Stage::Integrate: integrate(m, s, dt); break;
       case Stage::RigidIntegrate: integrate_rigid_bodies(m, s, dt); break;
+      case Stage::TetPressure: project_tet_pressure(m, s, dt); break;
       case Stage::LocalConstraints: apply_local_constraints(m, s, t_end); break;
       case Stage::ToolConstraints: for (auto& t : tools_) t->constraints(m, s, dt); break;
       case Stage::Volume:

@@ -45,6 +45,9 @@ void add_active_forces(const Model& m, State& s);
 void gather_rigid_forces(const Model& m, State& s);
 // integrate.cpp: symplectic Euler with implicit velocity damping v /= (1 + c dt)
 void integrate(const Model& m, State& s, double dt);
+// tet_pressure.cpp: the implicit nodal pressure of `pressure: implicit` tet nodes (Model::tet_pressure)
+// as a backward-Euler constraint step on the integrated positions, substep dt [s]
+void project_tet_pressure(const Model& m, State& s, double dt);
 // rigid.cpp: integrates dynamic bodies, places rigid and attached particles on their bodies
 void integrate_rigid_bodies(const Model& m, State& s, double dt);
 // constraints.cpp: fixed axes, imposed displacements, half-spaces (local constraints)

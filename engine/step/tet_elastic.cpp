@@ -13,6 +13,8 @@
 // Gradient: dE/dx_i = V0_t P_t g_i for the element's own vertices (g_0 = -g_1 - g_2 - g_3), with
 //   P_t = mu_t (F - cof F) + pbar_t cof F,   pbar_t = mean over t's 4 nodes of kappa_n (J_n - 1)
 // because dV_t/dx_i = V0_t cof(F_t) g_i and dJ_n/dx_i = sum_{t around n} dV_t/dx_i / (4 V0_n).
+// A node whose material has `pressure: implicit` keeps its volume term in the energy but not in
+// this force (TetElements::node_kappa_explicit is 0 for it): engine/step/tet_pressure.cpp solves it.
 // Three passes: node volumes, node pressures, element forces (multi-rate: TetPass in stages.h). Forces sum to zero per element
 // (momentum) and the energy is rotation invariant (angular momentum). No allocation: the node
 // scratch is State::tet_node_vol, sized at make_state.
@@ -130,7 +132,7 @@ void slow_force_now(const Model& m, State& s) {
   add_node_volumes(te, s.x, nf, nt, vs);
   for (int a = 0; a < nn; ++a) p[a] = vs[a];
   add_node_volumes(te, s.x, 0, nf, p);
-  for (int a = 0; a < nn; ++a) p[a] = te.node_kappa[a] * (p[a] * te.node_inv_vol0[a] - 1.0);
+  for (int a = 0; a < nn; ++a) p[a] = te.node_kappa_explicit[a] * (p[a] * te.node_inv_vol0[a] - 1.0);
   for (Vec3& f : s.tet_slow_f) f.setZero();
   element_forces(te, s.x.data(), p, nf, nt, 1.0, s.tet_slow_f.data());
   s.tet_slow_f_valid = 1;
@@ -169,7 +171,7 @@ void add_tet_elastic_forces(const Model& m, State& s, TetPass pass, int substeps
     for (int a = 0; a < nn; ++a) p[a] = vs[a];
     add_node_volumes(te, s.x, 0, nf, p);
   }
-  for (int a = 0; a < nn; ++a) p[a] = te.node_kappa[a] * (p[a] * te.node_inv_vol0[a] - 1.0);  // pressure [Pa]
+  for (int a = 0; a < nn; ++a) p[a] = te.node_kappa_explicit[a] * (p[a] * te.node_inv_vol0[a] - 1.0);  // pressure [Pa]
   const Vec3* x = s.x.data();
   Vec3* f = s.f.data();
   switch (pass) {

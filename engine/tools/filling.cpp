@@ -45,6 +45,7 @@ FillingTool::FillingTool(const FillingSpec& spec, const Model& m) : max_rate_(sp
       o.surface = si;
       o.name = f.component;
       o.rest = m.surfaces[si].rest_volume;
+      o.base = o.rest;
       o.current = o.rest;
       organs_.push_back(std::move(o));
       it = organs_.end() - 1;
@@ -54,7 +55,7 @@ FillingTool::FillingTool(const FillingSpec& spec, const Model& m) : max_rate_(sp
     r.value = f.kind == FillSpec::Factor ? f.value * it->rest : f.value;
     r.t0 = f.t0;
     r.t1 = f.t1;
-    r.field = key;
+    r.entry = static_cast<int>(i);
     r.line = f.loc.line;
     r.live = false;
     it->raw.push_back(r);
@@ -64,20 +65,33 @@ FillingTool::FillingTool(const FillingSpec& spec, const Model& m) : max_rate_(sp
     resolve(o, true);
     // room for live commands: applying one between ticks does not allocate (issue 10), up to
     // kLiveSegments of them per organ
-    o.raw.reserve(o.raw.size() + kLiveSegments);
-    o.seg.reserve(o.raw.size() + kLiveSegments);
+    o.slots = o.raw.size() + kLiveSegments;
+    o.raw.reserve(o.slots);
+    o.seg.reserve(o.slots);
   }
+}
+
+// Between ticks on the physics thread for a live command: a plain record, no text (tool_reports.h).
+void FillingTool::report(const Organ& o, const Raw& r, ToolReportCode code, double a, double b, double c) {
+  ToolReport rep;
+  rep.code = code;
+  rep.live = r.live ? 1 : 0;
+  rep.organ = static_cast<int16_t>(&o - organs_.data());
+  rep.line = r.line;
+  rep.entry = r.entry;
+  rep.time = r.t0;
+  rep.a = a;
+  rep.b = b;
+  rep.c = c;
+  reports_.push(rep);
 }
 
 void FillingTool::resolve(Organ& o, bool constructing) {
   const double lo = kMinVolumeFraction * o.rest, hi = kMaxVolumeFactor * o.rest;
-  auto where = [&](const Raw& r) {
-    return r.live ? fmt("t=%.4g s: live filling command", r.t0) + " (" + o.name + ")"
-                  : file_ + ":" + std::to_string(r.line) + ": " + r.field;
-  };
+  auto field = [&](const Raw& r) { return "filling.schedule[" + std::to_string(r.entry) + "]"; };  // errors only
   o.seg.clear();
   for (Raw& r : o.raw) {
-    double v0 = o.rest;
+    double v0 = o.base;
     if (!o.seg.empty()) {
       Segment& prev = o.seg.back();
       prev.t1 = std::min(prev.t1, r.t0);  // the later segment takes over
@@ -86,8 +100,7 @@ void FillingTool::resolve(Organ& o, bool constructing) {
     Segment s{r.t0, r.t1, v0, 0.0};
     if (r.kind == FillSpec::Rate) {
       if (std::abs(r.value) > max_rate_) {
-        reports_.push_back(where(r) + fmt(": fill rate %.4g ml/s exceeds the limit %.4g ml/s; clamped to %.4g ml/s",
-                                          r.value / kMl, max_rate_ / kMl, std::copysign(max_rate_, r.value) / kMl));
+        report(o, r, ToolReportCode::FillRateClamped, r.value, max_rate_, std::copysign(max_rate_, r.value));
         r.value = std::copysign(max_rate_, r.value);
       }
       s.slope = r.value;
@@ -95,28 +108,26 @@ void FillingTool::resolve(Organ& o, bool constructing) {
       if (r.value != 0.0 && (v_end < lo * (1 - 1e-12) || v_end > hi * (1 + 1e-12))) {
         const double bound = v_end < lo ? lo : hi;
         if (constructing && !r.live)
-          throw InputError(file_, r.line, r.field + ".rate_ml_s",
+          throw InputError(file_, r.line, field(r) + ".rate_ml_s",
                            fmt("the volume would reach %.4g ml, outside [%.3g, %.3g] ml (0.1x to 10x the rest volume)",
                                v_end / kMl, lo / kMl, hi / kMl));
         const double t_stop = r.t0 + (bound - v0) / r.value;
-        reports_.push_back(where(r) + fmt(": stops at %.4g ml (t=%.4g s) to stay within 0.1x..10x the rest volume",
-                                          bound / kMl, t_stop));
+        report(o, r, ToolReportCode::FillStops, bound, t_stop);
         r.t1 = s.t1 = std::max(r.t0, t_stop);
       }
     } else {
       if (r.value < lo || r.value > hi) {
         if (constructing && !r.live)
-          throw InputError(file_, r.line, r.field,
+          throw InputError(file_, r.line, field(r),
                            fmt("target %.4g ml is outside [%.3g, %.3g] ml (0.1x to 10x the rest volume)", r.value / kMl,
                                lo / kMl, hi / kMl));
         const double c = std::clamp(r.value, lo, hi);
-        reports_.push_back(where(r) + fmt(": target %.4g ml clamped to %.4g ml", r.value / kMl, c / kMl));
+        report(o, r, ToolReportCode::FillTargetClamped, r.value, c);
         r.value = c;
       }
       const double need = std::abs(r.value - v0) / max_rate_;
       if (need > (r.t1 - r.t0) * (1.0 + 1e-12)) {
-        reports_.push_back(where(r) + fmt(": reaching %.4g ml in %.4g s exceeds the rate limit; lengthened to %.4g s",
-                                          r.value / kMl, r.t1 - r.t0, need));
+        report(o, r, ToolReportCode::FillLengthened, r.value, r.t1 - r.t0, need);
         r.t1 = s.t1 = r.t0 + need;
       }
       s.slope = s.t1 > s.t0 ? (r.value - v0) / (s.t1 - s.t0) : 0.0;
@@ -127,7 +138,7 @@ void FillingTool::resolve(Organ& o, bool constructing) {
 }
 
 double FillingTool::value_at(const Organ& o, size_t& cursor, double t) {
-  if (o.seg.empty() || o.seg[0].t0 > t) return o.rest;
+  if (o.seg.empty() || o.seg[0].t0 > t) return o.base;
   while (cursor + 1 < o.seg.size() && o.seg[cursor + 1].t0 <= t) ++cursor;
   const Segment& s = o.seg[cursor];
   return s.v0 + s.slope * (std::min(t, s.t1) - s.t0);
@@ -147,14 +158,35 @@ FillingTool::Organ& FillingTool::organ(const std::string& component, const char*
   throw InputError("", 0, field, "'" + component + "' is not a filled organ (list it in the filling: section)");
 }
 
+void FillingTool::compact(Organ& o) {
+  size_t in_force = 0;  // the last segment started at or before now_ (a later start takes over)
+  bool any = false;
+  for (size_t i = 0; i < o.raw.size(); ++i)
+    if (o.raw[i].t0 <= now_) {
+      in_force = i;
+      any = true;
+    }
+  if (!any || in_force == 0) return;
+  // resolve() starts segment in_force at exactly this value (the ended one's end): same bits
+  o.base = o.seg[in_force].v0;
+  o.raw.erase(o.raw.begin(), o.raw.begin() + static_cast<std::ptrdiff_t>(in_force));
+  o.seg.erase(o.seg.begin(), o.seg.begin() + static_cast<std::ptrdiff_t>(in_force));
+  o.cursor = 0;
+}
+
+size_t FillingTool::insert_live(Organ& o, const Raw& r) {
+  compact(o);
+  const auto pos = std::upper_bound(o.raw.begin(), o.raw.end(), now_, [](double t, const Raw& x) { return t < x.t0; });
+  const size_t idx = static_cast<size_t>(pos - o.raw.begin());
+  o.raw.insert(pos, r);  // within the reserved slots (at most two live segments after compact)
+  resolve(o, false);
+  return idx;
+}
+
 double FillingTool::set_rate(const std::string& component, double rate) {
   Organ& o = organ(component, "filling.set_rate.component");
   if (!std::isfinite(rate)) throw InputError("", 0, "filling.set_rate.rate", "rate must be finite");
-  Raw r{FillSpec::Rate, rate, now_, std::numeric_limits<double>::infinity(), "set_rate", 0, true};
-  const auto pos = std::upper_bound(o.raw.begin(), o.raw.end(), now_, [](double t, const Raw& x) { return t < x.t0; });
-  const size_t idx = static_cast<size_t>(pos - o.raw.begin());
-  o.raw.insert(pos, r);
-  resolve(o, false);
+  const size_t idx = insert_live(o, Raw{FillSpec::Rate, rate, now_, std::numeric_limits<double>::infinity(), -1, 0, true});
   return o.raw[idx].value;
 }
 
@@ -162,11 +194,7 @@ double FillingTool::fill_to(const std::string& component, double target, double 
   Organ& o = organ(component, "filling.fill_to.component");
   if (!(target > 0.0) || !std::isfinite(target)) throw InputError("", 0, "filling.fill_to.target", "a target volume must be > 0");
   if (!(duration >= 0.0) || !std::isfinite(duration)) throw InputError("", 0, "filling.fill_to.duration", "must be >= 0");
-  Raw r{FillSpec::Target, target, now_, now_ + duration, "fill_to", 0, true};
-  const auto pos = std::upper_bound(o.raw.begin(), o.raw.end(), now_, [](double t, const Raw& x) { return t < x.t0; });
-  const size_t idx = static_cast<size_t>(pos - o.raw.begin());
-  o.raw.insert(pos, r);
-  resolve(o, false);
+  const size_t idx = insert_live(o, Raw{FillSpec::Target, target, now_, now_ + duration, -1, 0, true});
   return o.raw[idx].t1 - now_;
 }
 

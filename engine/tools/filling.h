@@ -26,6 +26,7 @@
 
 #include "engine/spec/scenario_spec.h"
 #include "engine/step/simulation.h"
+#include "engine/tools/tool_reports.h"
 
 namespace ps {
 
@@ -46,6 +47,9 @@ class FillingTool final : public Tool {
   bool accepts(CommandKind k) const override { return k == CommandKind::FillRate || k == CommandKind::FillTo; }
   void serialize(StateIO& io) override;
   void readout(ToolReadout& r, const Model& m, const State& s) const override;
+  // the clamps since `cursor` as snapshot events (kSnapshotEventAdjusted, text formatted here,
+  // on the reader's side of the ring)
+  int64_t events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out) const override;
 
   // --- live commands (between ticks, on the physics thread; from another thread push a Command
   // through engine/realtime/command_queue.h, applied by engine/realtime/command_apply.h) ---
@@ -58,14 +62,24 @@ class FillingTool final : public Tool {
   // a component that is not filled.
   double target_volume(const std::string& component) const;
   double max_rate() const { return max_rate_; }
-  const std::vector<std::string>& reports() const { return reports_; }
+  // Clamps applied to scripted entries and live commands, as records (no text: a live command
+  // writes one on the physics thread without allocating; tool_reports.h).
+  const ToolReportRing& report_ring() const { return reports_; }
+  // The records still held as sentences, oldest first (reader side: allocates), e.g.
+  // "fill.yaml:12: filling.schedule[0]: fill rate 5000 ml/s exceeds the limit 5 ml/s; clamped to
+  // 5 ml/s" or "t=0.02 s: live filling command (bladder): stops at 1000 ml (t=0.3 s) to stay
+  // within 0.1x..10x the rest volume". A first line says how many older ones were dropped.
+  std::vector<std::string> reports() const;
+  // One record as text into out[n] (NUL-terminated, truncated to fit; no allocation). brief: no
+  // "where" prefix (the snapshot event carries the time), for SnapshotEvent::text.
+  void describe(const ToolReport& r, char* out, size_t n, bool brief = false) const;
 
  private:
   struct Raw {                     // a segment as commanded
     FillSpec::Kind kind;
     double value;                  // Rate [m^3/s], Target [m^3] (factors resolved)
     double t0, t1;                 // [s]; t1 may be +inf for a live rate
-    std::string field;             // scenario key for messages ("filling.schedule[2]")
+    int entry;                     // index in the scenario's filling.schedule, -1 for live commands
     int line;                      // scenario line, 0 for live commands
     bool live;                     // a live command (clamped and reported, never an error)
   };
@@ -76,13 +90,26 @@ class FillingTool final : public Tool {
     int surface = -1;
     std::string name;
     double rest = 0.0;             // [m^3]
+    double base = 0.0;             // target before the first segment of raw [m^3]: the rest
+                                   // volume, or where the segments dropped by compact() left it
+    size_t slots = 0;              // fixed length of raw and seg (scripted entries + kLiveSegments)
     std::vector<Raw> raw;          // sorted by t0
     std::vector<Segment> seg;      // resolved, sorted by t0
     size_t cursor = 0;             // segment in force (time only moves forward)
     double current = 0.0;          // target at now_ [m^3]
   };
-  static constexpr size_t kLiveSegments = 256;
+  // Room for live segments beyond the scripted ones. compact() runs before each live command, so
+  // at most two are held (the one in force and the new one): the lists never grow past their
+  // construction size, and the saved state keeps its length (a save or hash between ticks reuses
+  // its buffer: no allocation on the physics thread, issue 10).
+  static constexpr size_t kLiveSegments = 4;
   void resolve(Organ& o, bool constructing);
+  // Drops the segments that have ended (every one that started before the last one started at or
+  // before now_), keeping the volume they reached in Organ::base: the same targets to the bit.
+  void compact(Organ& o);
+  // The position where a live segment starting now_ goes in o.raw (after compact()).
+  size_t insert_live(Organ& o, const Raw& r);
+  void report(const Organ& o, const Raw& r, ToolReportCode code, double a, double b, double c = 0.0);
   Organ& organ(const std::string& component, const char* field);
   static double value_at(const Organ& o, size_t& cursor, double t);
 
@@ -90,7 +117,7 @@ class FillingTool final : public Tool {
   std::vector<Organ> organs_;
   double now_ = 0.0;
   std::string file_;
-  std::vector<std::string> reports_;
+  ToolReportRing reports_;
 };
 
 // The filling of a scenario (nullptr when it has no filling: section).

@@ -127,10 +127,15 @@ ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), recta
     const ProbePose to = merge(from, mv);
     const double need = min_duration(from, to);
     if (need > (mv.t1 - mv.t0) * (1.0 + 1e-12)) {
-      char b[256];
-      std::snprintf(b, sizeof b, "%s:%d: probe move lengthened from %.3g s to %.3g s to respect the speed limits (%.3g mm/s, %.3g deg/s)",
-                    file.c_str(), mv.loc.line, mv.t1 - mv.t0, need, spec.max_speed * 1e3, spec.max_angular_speed * 180.0 / std::numbers::pi);
-      reports_.push_back(b);
+      ToolReport r;
+      r.code = ToolReportCode::ProbeMoveLengthened;
+      r.line = mv.loc.line;
+      r.time = mv.t0;
+      r.a = mv.t1 - mv.t0;
+      r.b = need;
+      r.c = spec.max_speed;
+      r.d = spec.max_angular_speed;
+      reports_.push(r);
       mv.t1 = mv.t0 + need;
     }
     act = Move{mv.t0, mv.t1, from, to};
@@ -238,20 +243,29 @@ void ProbeTool::advance_to(double t) {
   hi_ = c.back.cwiseMax(c.tip) + Vec3::Constant(c.radius + kProbeQueryMargin);
 }
 
-double ProbeTool::move_to(const ProbePose& target, double duration) {
-  if (!finite_pose(target) || !std::isfinite(duration))
-    throw InputError("", 0, "probe.move_to", "non-finite pose or duration");
-  if (duration < 0.0) throw InputError("", 0, "probe.move_to", "negative duration");
+const char* ProbeTool::check_move(const ProbePose& target, double duration) {
+  if (!finite_pose(target) || !std::isfinite(duration)) return "non-finite pose or duration";
+  if (duration < 0.0) return "negative duration";
   if (std::abs(target.tilt) > kProbeMaxTiltRad || std::abs(target.yaw) > kProbeMaxTiltRad)
-    throw InputError("", 0, "probe.move_to", "tilt and yaw must be within +-45 degrees");
+    return "tilt and yaw must be within +-45 degrees";
+  return nullptr;
+}
+
+double ProbeTool::move_to(const ProbePose& target, double duration) {
+  if (const char* why = check_move(target, duration)) throw InputError("", 0, "probe.move_to", why);
   advance_to(now_);  // scripted moves due now start before this command takes over
   const double need = min_duration(pose_, target);
   const double used = std::max(duration, need);
-  if (used > duration * (1.0 + 1e-12)) {
-    char b[200];
-    std::snprintf(b, sizeof b, "t=%.4g s: probe command lengthened from %.3g s to %.3g s to respect the speed limits", now_,
-                  duration, used);
-    reports_.push_back(b);
+  if (used > duration * (1.0 + 1e-12)) {  // a record, no text: this runs on the physics thread (tool_reports.h)
+    ToolReport r;
+    r.code = ToolReportCode::ProbeMoveLengthened;
+    r.live = 1;
+    r.time = now_;
+    r.a = duration;
+    r.b = used;
+    r.c = spec_.max_speed;
+    r.d = spec_.max_angular_speed;
+    reports_.push(r);
   }
   active_ = Move{now_, now_ + used, pose_, target};
   return used;

@@ -76,6 +76,7 @@
 #include "engine/step/simulation.h"
 #include "engine/tools/fcl_surface.h"
 #include "engine/tools/probe_geometry.h"
+#include "engine/tools/tool_reports.h"
 
 namespace ps {
 
@@ -108,6 +109,8 @@ class ProbeTool final : public Tool {
   bool accepts(CommandKind k) const override { return k == CommandKind::ProbeMove; }
   void serialize(StateIO& io) override;
   void readout(ToolReadout& r, const Model& m, const State& s) const override;
+  // the lengthened moves since `cursor` as snapshot events (kSnapshotEventAdjusted)
+  int64_t events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out) const override;
 
   // Broad phase used from the next substep on (default Fcl). Between ticks.
   void set_broad_phase(ProbeBroadPhase b) { broad_ = fcl_ ? b : ProbeBroadPhase::Box; }
@@ -137,8 +140,18 @@ class ProbeTool final : public Tool {
   double max_penetration_seen() const { return penetration_seen_; }  // whole run [m]
   int blocked_count() const { return blocked_; }           // held particles inside, last substep
   int64_t blocked_substeps() const { return blocked_substeps_; }
-  // Clamps applied to commands (speed limits), in order.
-  const std::vector<std::string>& reports() const { return reports_; }
+  // Moves lengthened to the speed limits (scripted and live), as records: a live command writes
+  // one on the physics thread without allocating (tool_reports.h).
+  const ToolReportRing& report_ring() const { return reports_; }
+  // The records still held as sentences, oldest first (reader side: allocates), e.g.
+  // "t=0.1 s: probe command lengthened from 0.001 s to 0.12 s to respect the speed limits
+  // (100 mm/s, 90 deg/s)". A first line says how many older ones were dropped.
+  std::vector<std::string> reports() const;
+  // One record as text into out[n] (NUL-terminated, truncated to fit; no allocation). brief: no
+  // time or file prefix, for SnapshotEvent::text.
+  void describe(const ToolReport& r, char* out, size_t n, bool brief = false) const;
+  // Why a live move would be refused (a fixed message), nullptr when it is acceptable.
+  static const char* check_move(const ProbePose& target, double duration);
 
   // needle paths fixed to the probe at the current commanded pose
   NeedlePath biopsy_guide() const { return biopsy_guide_path(spec_, frame_); }
@@ -193,7 +206,7 @@ class ProbeTool final : public Tool {
   int contacts_ = 0, imposed_ = 0, blocked_ = 0;
   int64_t blocked_substeps_ = 0;
   double penetration_ = 0.0, penetration_seen_ = 0.0;
-  std::vector<std::string> reports_;
+  ToolReportRing reports_;
 };
 
 // The probe of a scenario (nullptr when it has no probe: section).

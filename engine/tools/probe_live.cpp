@@ -1,6 +1,8 @@
 // The probe's live side (between ticks): the ProbeMove command, its read-out, and the walk of
 // every mutable field (save / restore / hash, engine/util/state_io.h).
+#include <algorithm>
 #include <cstdio>
+#include <numbers>
 
 #include "engine/tools/probe.h"
 #include "engine/util/error.h"
@@ -28,12 +30,12 @@ bool ProbeTool::apply(const Command& c, const Model&, const State&, CommandRefus
   p.roll = c.roll;
   p.tilt = c.tilt;
   p.yaw = c.yaw;
-  try {
-    move_to(p, c.duration);
-  } catch (const InputError& e) {
-    why.set(e.what());
+  // refused before anything changes, with a fixed message: no allocation on the physics thread
+  if (const char* bad = check_move(p, c.duration)) {
+    why.set(bad);
     return false;
   }
+  move_to(p, c.duration);
   return true;
 }
 
@@ -74,7 +76,7 @@ void ProbeTool::serialize(StateIO& io) {
   io.pod(blocked_substeps_);
   io.pod(penetration_);
   io.pod(penetration_seen_);
-  io.strings(reports_);
+  reports_.serialize(io);
 }
 
 void ProbeTool::readout(ToolReadout& r, const Model&, const State&) const {
@@ -85,6 +87,51 @@ void ProbeTool::readout(ToolReadout& r, const Model&, const State&) const {
   r.force = force_.norm();
   r.force_vec = force_;
   r.value = pose_.insertion;
+}
+
+void ProbeTool::describe(const ToolReport& r, char* out, size_t n, bool brief) const {
+  if (n == 0) return;
+  const double deg_s = r.d * 180.0 / std::numbers::pi;
+  if (r.code != ToolReportCode::ProbeMoveLengthened) {
+    std::snprintf(out, n, "probe: report code %d", static_cast<int>(r.code));
+  } else if (brief) {
+    std::snprintf(out, n, "probe %s lengthened from %.3g s to %.3g s (limits %.3g mm/s, %.3g deg/s)",
+                  r.live ? "command" : "move", r.a, r.b, r.c * 1e3, deg_s);
+  } else if (r.live) {
+    std::snprintf(out, n,
+                  "t=%.4g s: probe command lengthened from %.3g s to %.3g s to respect the speed limits (%.3g mm/s, "
+                  "%.3g deg/s)",
+                  r.time, r.a, r.b, r.c * 1e3, deg_s);
+  } else {
+    std::snprintf(out, n, "%s:%d: probe move lengthened from %.3g s to %.3g s to respect the speed limits (%.3g mm/s, %.3g deg/s)",
+                  spec_.loc.file.c_str(), r.line, r.a, r.b, r.c * 1e3, deg_s);
+  }
+}
+
+std::vector<std::string> ProbeTool::reports() const {
+  std::vector<std::string> out;
+  if (reports_.dropped() > 0)
+    out.push_back(std::to_string(reports_.dropped()) + " earlier probe reports were dropped (ring of " +
+                  std::to_string(ToolReportRing::kCapacity) + ")");
+  char b[320];
+  for (int i = 0; i < reports_.size(); ++i) {
+    describe(reports_.at(i), b, sizeof b);
+    out.emplace_back(b);
+  }
+  return out;
+}
+
+int64_t ProbeTool::events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out) const {
+  for (int64_t k = std::max(cursor, reports_.dropped()); k < reports_.total(); ++k) {
+    const ToolReport& r = reports_.record(k);
+    SnapshotEvent e;
+    e.time = r.time;
+    e.tool = tool_index;
+    e.kind = kSnapshotEventAdjusted;
+    describe(r, e.text.data(), e.text.size(), true);
+    out.push_back(e);
+  }
+  return reports_.total();
 }
 
 }  // namespace ps

@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -141,6 +143,52 @@ TEST(EditorCommands, NeedlePlanOnTheShippedScenes) {
   ASSERT_TRUE(f.doc().valid());
   ASSERT_TRUE(f.set_max_fill_rate_ml_s(20).ok);
   EXPECT_FALSE(f.set_fill_target_ml(0, -10).ok);
+}
+
+// The filling panel's segments (issue 13: a segment given as target_factor showed "nan", the
+// panel read only target_ml and rate_ml_s): config/bladder_filling.yaml's only segment is
+// `target_factor: 2.0`; it shows its factor and the volume it means in ml, editing the volume in ml
+// keeps the file's form (the factor), and the compiled filling reaches that volume.
+TEST(EditorCommands, AFillSegmentGivenAsAFactorShowsAndEditsItsVolume) {
+  EditorCommands f = EditorCommands::open(std::string(PROSTATESIM_SOURCE_DIR) + "/config/bladder_filling.yaml");
+  ASSERT_TRUE(f.doc().valid());
+  const Model& m = *f.doc().model();
+  const int b = m.find_component("bladder");
+  ASSERT_GE(b, 0);
+  const double rest_ml = 1e6 * m.surfaces.at(static_cast<size_t>(m.components[static_cast<size_t>(b)].surface)).rest_volume;
+  std::vector<FillSegmentView> segs = f.fill_segments();
+  ASSERT_EQ(segs.size(), 1u);
+  EXPECT_EQ(segs[0].kind, FillSpec::Factor);
+  EXPECT_EQ(segs[0].key, "filling.schedule[0].target_factor");
+  EXPECT_STREQ(segs[0].label, "volume [x rest]");
+  EXPECT_DOUBLE_EQ(segs[0].value, 2.0);
+  ASSERT_TRUE(std::isfinite(segs[0].volume_ml));
+  EXPECT_NEAR(segs[0].volume_ml, 2.0 * rest_ml, 1e-9 * rest_ml);
+  EXPECT_NEAR(segs[0].rest_ml, rest_ml, 1e-9 * rest_ml);
+  std::printf("bladder_filling.yaml segment 0: factor %.3g = %.2f ml (rest %.2f ml)\n", segs[0].value, segs[0].volume_ml, rest_ml);
+
+  // the volume in ml on a factor segment: written as the factor (no target_ml beside it)
+  const EditResult r = f.set_fill_target_ml(0, 1.5 * rest_ml);
+  ASSERT_TRUE(r.ok) << r.issue->field << ": " << r.issue->message;
+  EXPECT_TRUE(f.doc().value_text("filling.schedule[0].target_ml").empty());
+  EXPECT_NEAR(std::strtod(f.doc().value_text("filling.schedule[0].target_factor").c_str(), nullptr), 1.5, 1e-5);
+  segs = f.fill_segments();
+  EXPECT_NEAR(segs[0].volume_ml, 1.5 * rest_ml, 1e-5 * rest_ml);
+  ASSERT_TRUE(f.spec()->filling.has_value());
+  EXPECT_EQ(f.spec()->filling->schedule[0].kind, FillSpec::Factor);
+  // the factor field itself, and a refusal next to it
+  ASSERT_TRUE(f.set_fill_value(0, 3.0).ok);
+  EXPECT_DOUBLE_EQ(f.fill_segments()[0].value, 3.0);
+  const EditResult bad = f.set_fill_value(0, -1.0);
+  ASSERT_FALSE(bad.ok);
+  EXPECT_NE(bad.issue->field.find("filling.schedule[0]"), std::string::npos) << bad.issue->field;
+  // a rate segment shows its rate and refuses a volume
+  ASSERT_TRUE(f.doc().set("filling.schedule[0]", "{component: bladder, rate_ml_s: 2, ramp_s: [0.5, 2.5]}").ok);
+  segs = f.fill_segments();
+  EXPECT_EQ(segs[0].key, "filling.schedule[0].rate_ml_s");
+  EXPECT_DOUBLE_EQ(segs[0].value, 2.0);
+  EXPECT_TRUE(std::isnan(segs[0].volume_ml));
+  EXPECT_FALSE(f.set_fill_target_ml(0, 100).ok);
 }
 
 // save -> open gives the same compiled scenario (model hash), comments kept; a failed save

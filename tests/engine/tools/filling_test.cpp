@@ -15,6 +15,7 @@
 #include "engine/step/stages.h"
 #include "engine/tools/displacement_field.h"
 #include "engine/util/error.h"
+#include "engine/util/state_io.h"
 
 namespace ps {
 namespace {
@@ -107,6 +108,66 @@ TEST(Filling, RatesBeyondThePhysiologicalLimitAreClampedAndReported) {
   ticks(r, 100);
   EXPECT_NEAR(r.tool->target_volume("bladder"), 64.0 * kMl, 1e-15);
   EXPECT_LT(r.worst_hold, 1e-9);
+}
+
+// A session sends many live commands: the segments that have ended are dropped (compact()), so the
+// schedule never outgrows the slots reserved at construction (no allocation on the physics
+// thread), the saved state keeps its length, the target still follows every command exactly, and
+// a save taken mid-way restores to the same targets.
+TEST(Filling, ThousandsOfLiveCommandsKeepTheSavedLengthAndFollowTheirTargets) {
+  const std::string y = cube_with("filling:\n  schedule: [{component: bladder, rate_ml_s: 1, ramp_s: [0, 0.5]}]\n");
+  const ScenarioSpec spec = parse_scenario_text(y, "fill.yaml");
+  auto m = compile_scenario(spec);
+  FillingTool tool(*spec.filling, *m);
+  State s = make_state(*m);
+  const int si = m->components[0].surface;
+  const double v0 = m->surfaces[si].rest_volume;
+  auto at = [&](FillingTool& t, double time) {
+    s.time = time - 1e-3;
+    t.boundary_conditions(*m, s, 1e-3);
+    return s.target_volume[si];
+  };
+  auto saved = [](FillingTool& t) {
+    std::vector<uint8_t> b;
+    StateIO io(b, StateIO::Save);
+    t.serialize(io);
+    return b;
+  };
+  const size_t length = saved(tool).size();
+  // the scripted 1 ml/s runs to 0.5 s (+0.5 ml); from 1 s, +2 ml/s and -2 ml/s for 10 ms each
+  EXPECT_NEAR(at(tool, 1.0), v0 + 0.5 * kMl, 1e-15);
+  std::vector<uint8_t> mid;
+  for (int k = 0; k < 3000; ++k) {
+    tool.set_rate("bladder", (k % 2 ? -2.0 : 2.0) * kMl);
+    const double t = 1.0 + 0.01 * (k + 1);
+    ASSERT_NEAR(at(tool, t), v0 + 0.5 * kMl + (k % 2 ? 0.0 : 0.02 * kMl), 1e-14) << "command " << k;
+    ASSERT_EQ(saved(tool).size(), length) << "command " << k;
+    if (k == 1499) mid = saved(tool);
+  }
+  // every open-ended rate is reported where the volume range would stop it: the ring keeps the
+  // latest ones and counts the rest
+  EXPECT_EQ(tool.report_ring().total(), 3000);
+  EXPECT_EQ(tool.report_ring().size(), ToolReportRing::kCapacity);
+  EXPECT_EQ(tool.reports().front(), std::to_string(3000 - ToolReportRing::kCapacity) +
+                                        " earlier filling reports were dropped (ring of " + std::to_string(ToolReportRing::kCapacity) + ")");
+  EXPECT_EQ(tool.report_ring().at(0).code, ToolReportCode::FillStops);
+  // restored mid-way, the same commands give the same targets to the bit
+  FillingTool again(*spec.filling, *m);
+  StateIO in(mid, StateIO::Restore);
+  again.serialize(in);
+  double a = 0.0, b = 0.0;
+  for (int k = 1500; k < 1600; ++k) {
+    again.set_rate("bladder", (k % 2 ? -2.0 : 2.0) * kMl);
+    a = at(again, 1.0 + 0.01 * (k + 1) + 0.005);
+  }
+  FillingTool ref(*spec.filling, *m);
+  at(ref, 1.0);
+  for (int k = 0; k < 1600; ++k) {
+    ref.set_rate("bladder", (k % 2 ? -2.0 : 2.0) * kMl);
+    b = at(ref, 1.0 + 0.01 * (k + 1) + (k >= 1500 ? 0.005 : 0.0));
+  }
+  EXPECT_EQ(a, b);
+  EXPECT_NEAR(a, v0 + 0.51 * kMl, 1e-14);  // 10 ms of +2 ml/s then 5 ms of -2 ml/s on 64.5 ml
 }
 
 TEST(Filling, LiveCommandsTakeOverAndAreClampedToRateAndVolumeLimits) {
