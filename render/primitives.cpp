@@ -41,6 +41,20 @@ PrimitiveMesh unit_cylinder(int slices) {
     const uint32_t a = 2 * j, b = a + 2;
     m.indices.insert(m.indices.end(), {a, b, a + 1, a + 1, b, b + 1});
   }
+  // end caps (outward normals -z and +z): the mesh is closed, so the renderer may cull back faces
+  for (int end = 0; end < 2; ++end) {
+    const double z = end, nz = end ? 1.0 : -1.0;
+    const uint32_t centre = count(m);
+    vert(m, 0, 0, z, 0, 0, nz);
+    for (int j = 0; j <= slices; ++j) {
+      const double ph = 2 * kPi * j / slices;
+      vert(m, std::cos(ph), std::sin(ph), z, 0, 0, nz);
+    }
+    for (int j = 0; j < slices; ++j) {
+      if (end) m.indices.insert(m.indices.end(), {centre, centre + 1 + j, centre + 2 + j});
+      else m.indices.insert(m.indices.end(), {centre, centre + 2 + j, centre + 1 + j});
+    }
+  }
   return m;
 }
 

@@ -12,7 +12,7 @@ struct PrimitiveMesh {
 };
 
 PrimitiveMesh unit_sphere(int slices, int stacks);
-PrimitiveMesh unit_cylinder(int slices);   // side only: capsule ends are spheres, arrows get a cone
+PrimitiveMesh unit_cylinder(int slices);   // side and both end caps (closed, outward wound: back faces may be culled)
 PrimitiveMesh unit_cone(int slices);       // side and base
 
 }  // namespace ps::render

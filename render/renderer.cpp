@@ -219,6 +219,10 @@ struct Renderer::Gpu : DrawSink {
   unsigned lit_surface = 0, lit_instance = 0, line_prog = 0, overlay_prog = 0;
   std::vector<SurfaceGpu> surfaces;
   PrimitiveBatch spheres, cylinders, cones;
+  // spheres at three levels of detail, chosen per view by their radius on screen: the batch
+  // `spheres` (18 x 12) for large ones, these two for small ones (render())
+  PrimitiveBatch spheres_mid, spheres_low;
+  std::vector<Instance> sphere_list;  // this frame's spheres (update()), split per view
   unsigned line_vao = 0, line_vbo = 0;
   size_t line_capacity = 0;
   std::vector<LineVertex> lines;
@@ -236,12 +240,15 @@ struct Renderer::Gpu : DrawSink {
     lines.push_back({{float(b.x()), float(b.y()), float(b.z())}, {c.r, c.g, c.b, c.a}});
   }
   void capsule(const Vec3& a, const Vec3& b, double r, Rgba c, DrawRole) override {
+    cylinder(a, b, r, c);
+    sphere_at(a, r, c);
+    sphere_at(b, r, c);
+  }
+  void cylinder(const Vec3& a, const Vec3& b, double r, Rgba c) {
     Instance in{};
     std::memcpy(in.c, &c, sizeof in.c);
     frame_matrix(a, b - a, r, (b - a).norm(), in.m);
     cylinders.items.push_back(in);
-    sphere_at(a, r, c);
-    sphere_at(b, r, c);
   }
   void sphere(const Vec3& centre, double r, Rgba c, DrawRole) override { sphere_at(centre, r, c); }
   void arrow(const Vec3& from, const Vec3& vec, Rgba c, DrawRole role) override {
@@ -264,7 +271,7 @@ struct Renderer::Gpu : DrawSink {
     Instance in{};
     std::memcpy(in.c, &c, sizeof in.c);
     frame_matrix(p, Vec3::UnitZ(), r, r, in.m);
-    spheres.items.push_back(in);
+    sphere_list.push_back(in);
   }
 
   void init_batch(PrimitiveBatch& b, const PrimitiveMesh& mesh) {
@@ -352,6 +359,19 @@ Renderer::Renderer(RenderScene scene) : scene_(std::move(scene)), gpu_(std::make
     sg.index_count = static_cast<int>(rs.indices.size());
   }
   g.init_batch(g.spheres, unit_sphere(18, 12));
+  // the coarse spheres are scaled so that their outline (an N-gon at the equator) has the area of
+  // the sphere's disc: an inscribed polygon would shrink the small seed and target dots
+  auto area_true_sphere = [](int slices, int stacks) {
+    PrimitiveMesh m = unit_sphere(slices, stacks);
+    const double kPi = 3.14159265358979323846;
+    const float k = static_cast<float>(std::sqrt(kPi / (0.5 * slices * std::sin(2 * kPi / slices))));
+    for (size_t v = 0; v < m.vertices.size(); v += 6)
+      for (int d = 0; d < 3; ++d) m.vertices[v + d] *= k;
+    return m;
+  };
+  g.init_batch(g.spheres_mid, area_true_sphere(10, 6));
+  g.init_batch(g.spheres_low, area_true_sphere(6, 4));
+  g.sphere_list.reserve(g.spheres.capacity);
   g.init_batch(g.cylinders, unit_cylinder(20));
   g.init_batch(g.cones, unit_cone(20));
   api.GenVertexArrays(1, &g.line_vao);
@@ -387,7 +407,7 @@ Renderer::~Renderer() {
     api.DeleteBuffers(1, &s.ibo);
     api.DeleteVertexArrays(1, &s.vao);
   }
-  for (PrimitiveBatch* b : {&g.spheres, &g.cylinders, &g.cones}) {
+  for (PrimitiveBatch* b : {&g.spheres, &g.spheres_mid, &g.spheres_low, &g.cylinders, &g.cones}) {
     api.DeleteBuffers(1, &b->vbo);
     api.DeleteBuffers(1, &b->ibo);
     api.DeleteBuffers(1, &b->inst);
@@ -443,7 +463,7 @@ void Renderer::update(const Snapshot& snap) {
     api.BufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(sg.vertices.size() * sizeof(float)), sg.vertices.data());
   }
   // instruments and tissue markers, batched into instances (vectors keep their capacity)
-  g.spheres.items.clear();
+  g.sphere_list.clear();
   g.cylinders.items.clear();
   g.cones.items.clear();
   g.lines.clear();
@@ -458,7 +478,10 @@ void Renderer::update(const Snapshot& snap) {
         const int p = t.particles[k][j];
         q += t.weights[k][j] * Vec3(x[3 * p], x[3 * p + 1], x[3 * p + 2]);
       }
-      if (k > 0) g.capsule(prev, q, t.radius, t.colour, DrawRole::Other);
+      // a cylinder per segment and one sphere per joint (capsule() would draw each inner joint's
+      // sphere twice: half the tube's triangles, the same pixels)
+      if (k > 0) g.cylinder(prev, q, t.radius, t.colour);
+      g.sphere_at(q, t.radius, t.colour);
       prev = q;
     }
   }
@@ -595,9 +618,34 @@ void Renderer::render(const Camera& cam, int width, int height, const RenderOpti
   api.UniformMatrix4fv(api.GetUniformLocation(g.lit_instance, "uViewProj"), 1, GL_FALSE, vp.data());
   api.Uniform3fv(api.GetUniformLocation(g.lit_instance, "uEye"), 1, eye);
   api.Uniform1f(api.GetUniformLocation(g.lit_instance, "uRim"), 0.0f);
+  // closed, outward-wound primitives (the cylinder is capped): their back faces are never seen, and
+  // culling them before rasterisation halves the triangles the (software) rasteriser sets up
+  api.Enable(GL_CULL_FACE);
+  api.CullFace(GL_BACK);
+  {
+    // level of detail: an N-slice polygon departs from its circle by r (1 - cos(pi / N)) on
+    // screen; 6 x 4 below 3 px of radius and 10 x 6 below 10 px (an even number of stacks, so the
+    // equator is a ring) keep that under 0.5 px, while the 432 triangles of the 18 x 12 sphere,
+    // most of them under a pixel on the urethra's and the needle's joints, cost a software
+    // rasteriser ~10 ms CPU per 720p frame with 4x multisampling (docs/rendering.md)
+    const double px_per_rad = 0.5 * height / std::tan(0.5 * cam.fov_y_deg * 3.14159265358979323846 / 180.0);
+    g.spheres.items.clear();
+    g.spheres_mid.items.clear();
+    g.spheres_low.items.clear();
+    for (const Instance& in : g.sphere_list) {
+      const Vec3 c(in.m[12], in.m[13], in.m[14]);
+      const double r = Vec3(in.m[0], in.m[1], in.m[2]).norm();
+      const double dist = (c - cam.eye).dot((cam.target - cam.eye).normalized());  // depth along the view axis [m]
+      const double r_px = dist > cam.near_m ? r / dist * px_per_rad : 1e9;
+      (r_px < 3.0 ? g.spheres_low : r_px < 10.0 ? g.spheres_mid : g.spheres).items.push_back(in);
+    }
+  }
   g.draw_batch(g.spheres);
+  g.draw_batch(g.spheres_mid);
+  g.draw_batch(g.spheres_low);
   g.draw_batch(g.cylinders);
   g.draw_batch(g.cones);
+  api.Disable(GL_CULL_FACE);
   if (!g.lines.empty()) {
     api.UseProgram(g.line_prog);
     api.UniformMatrix4fv(api.GetUniformLocation(g.line_prog, "uViewProj"), 1, GL_FALSE, vp.data());

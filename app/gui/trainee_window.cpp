@@ -107,6 +107,7 @@ struct UsPanel {
   UsFrame frame;
   unsigned tex[2] = {0, 0};
   bool have = false;
+  float gain_db = 0.0f, depth_mm = 60.0f, freq_mhz = 7.5f;  // the knobs (sliders)
   ~UsPanel() {
     worker.reset();
     if (tex[0] && gl::loaded()) gl::api.DeleteTextures(2, tex);
@@ -123,6 +124,10 @@ void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width) {
     else {
       try {
         p.worker = std::make_unique<UltrasoundWorker>(s.scene());
+        const UsControls c = p.worker->controls();
+        p.gain_db = static_cast<float>(c.gain_db);
+        p.depth_mm = static_cast<float>(c.depth_m * 1e3);
+        p.freq_mhz = static_cast<float>(c.frequency_hz * 1e-6);
       } catch (const std::exception& e) {
         p.error = e.what();
       }
@@ -167,6 +172,21 @@ void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width) {
   ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(p.tex[1])), ImVec2(side, side));
   ImGui::TextDisabled("transverse (R on left)   sagittal (base on left)");
   ImGui::TextDisabled("t = %.3f s, both planes %.0f ms (worker thread)", p.frame.time, p.frame.ms);
+  // gain, depth, frequency: the worker rebuilds its imager for them before its next image
+  ImGui::PushItemWidth(0.3f * width);
+  bool changed = ImGui::SliderFloat("gain [dB]", &p.gain_db, -30.0f, 30.0f, "%.0f");
+  ImGui::SameLine();
+  changed |= ImGui::SliderFloat("depth [mm]", &p.depth_mm, 30.0f, 100.0f, "%.0f");
+  changed |= ImGui::SliderFloat("frequency [MHz]", &p.freq_mhz, 4.0f, 12.0f, "%.1f");
+  ImGui::PopItemWidth();
+  if (changed && p.worker) {
+    try {
+      p.worker->set_controls({p.gain_db, p.depth_mm * 1e-3, p.freq_mhz * 1e6});
+    } catch (const std::exception& e) {  // a typed-in value out of range (ctrl+click): say which
+      p.error = e.what();
+    }
+  }
+  if (!p.error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.5f, 0.4f, 1.0f), "%s", p.error.c_str());
 }
 
 void push_log(Ui& ui, const std::string& s) {

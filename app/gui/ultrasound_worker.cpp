@@ -14,6 +14,7 @@ UltrasoundWorker::UltrasoundWorker(const Scene& scene, int side) {
   us::UltrasoundSettings set = us::settings_for_probe(*scene.spec.probe);
   set.width = set.height = side;
   imager_ = std::make_unique<us::BiplaneImager>(*anatomy_, set);
+  settings_ = pending_settings_ = set;
   done_.side = side;
   thread_ = std::thread([this] { run(); });
 }
@@ -36,6 +37,22 @@ void UltrasoundWorker::submit(const Snapshot& snap) {
   cv_.notify_one();
 }
 
+void UltrasoundWorker::set_controls(const UsControls& c) {
+  std::lock_guard<std::mutex> lk(mu_);
+  us::UltrasoundSettings set = pending_settings_;
+  set.gain_db = c.gain_db;
+  set.depth = c.depth_m;
+  set.frequency = c.frequency_hz;
+  us::validate(set);  // throws before anything changes
+  pending_settings_ = set;
+  settings_changed_ = true;
+}
+
+UsControls UltrasoundWorker::controls() const {
+  std::lock_guard<std::mutex> lk(mu_);
+  return {pending_settings_.gain_db, pending_settings_.depth, pending_settings_.frequency};
+}
+
 bool UltrasoundWorker::take(UsFrame& out) {
   std::lock_guard<std::mutex> lk(mu_);
   if (!fresh_) return false;
@@ -47,6 +64,7 @@ bool UltrasoundWorker::take(UsFrame& out) {
 void UltrasoundWorker::run() {
   UsFrame img;
   img.side = done_.side;
+  bool rebuild = false;
   for (;;) {
     {
       std::unique_lock<std::mutex> lk(mu_);
@@ -54,6 +72,15 @@ void UltrasoundWorker::run() {
       if (stop_) return;
       std::swap(pending_, working_);
       has_pending_ = false;
+      if (settings_changed_) {
+        settings_ = pending_settings_;
+        settings_changed_ = false;
+        rebuild = true;
+      }
+    }
+    if (rebuild) {  // new knobs: a new imager (its buffers and tables depend on depth and frequency)
+      imager_ = std::make_unique<us::BiplaneImager>(*anatomy_, settings_);
+      rebuild = false;
     }
     const auto t0 = std::chrono::steady_clock::now();
     us::probe_view_from_snapshot(working_, probe_);  // no probe drawn: keeps the last pose

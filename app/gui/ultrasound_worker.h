@@ -23,6 +23,13 @@ struct Scene;
 
 namespace ps::gui {
 
+// The knobs a sonographer turns on the live image (issue 12: gain, depth and frequency adjustable).
+struct UsControls {
+  double gain_db = 0.0;          // overall gain [dB]
+  double depth_m = 0.060;        // imaging depth [m]
+  double frequency_hz = 7.5e6;   // centre frequency [Hz]
+};
+
 struct UsFrame {
   int side = 0;                          // square images [px]
   std::vector<uint8_t> transverse, sagittal;  // grayscale, rows top-down
@@ -42,6 +49,10 @@ class UltrasoundWorker {
   void submit(const Snapshot& snap);
   // True when a newer frame than the last taken one is ready; swaps it into `out`.
   bool take(UsFrame& out);
+  // New gain, depth, frequency: checked here (InputError naming ultrasound.<field>, nothing
+  // changed), applied by the worker before its next image (it rebuilds its imager for them).
+  void set_controls(const UsControls& c);
+  UsControls controls() const;
 
  private:
   void run();
@@ -49,7 +60,9 @@ class UltrasoundWorker {
   std::unique_ptr<us::BiplaneImager> imager_;
   us::UltrasoundScene scene_;
   us::ProbeView probe_;
-  std::mutex mu_;
+  us::UltrasoundSettings settings_, pending_settings_;  // current / waiting for the worker (guarded by mu_)
+  bool settings_changed_ = false;
+  mutable std::mutex mu_;
   std::condition_variable cv_;
   Snapshot pending_, working_;
   bool has_pending_ = false, stop_ = false, fresh_ = false;

@@ -110,6 +110,8 @@ class PlaneImager {
   int NB_ = 0, NS_ = 0;
   std::vector<int> beam_pix_;         // [NB*NS] nearest pixel of each beam sample, -1 outside
   std::vector<float> T_, mark_;       // [NB*NS] transmitted amplitude; rod shadow marks
+  std::vector<int> rod_k_;            // [NB] per rod: shallowest depth cell where the beam meets it (NS: none)
+  std::vector<float> rod_m_;          // [NB] per rod: fraction of the beam it lets through there
   // PSF
   std::vector<float> klat_, kax_;     // normalised Gaussian taps
   float lattice_ = 1e-4f;             // speckle lattice step [m]
@@ -123,6 +125,10 @@ class PlaneImager {
   double g_ = 2e-3, gs0_ = 0, gt0_ = 0;
   std::vector<float> field_;          // [(ncomp+1) * gx*gy * 4]: ux, uy, uz, weight
   std::vector<int> rank_comp_;        // priority rank -> component
+  std::vector<TissueAcoustics> comp_ac_;  // [components] acoustics of each component's tissue
+  std::vector<uint8_t> comp_prostate_;    // [components] 1: the gland (echo from the rest volume)
+  std::vector<int> col_a_;            // [W] displacement-grid cell of each pixel column
+  std::vector<float> col_wa_;         // [W] its bilinear weight
   std::vector<float> cre_, cim_, tmp_re_, tmp_im_, pad_;
   int tx_ = 0, ty_ = 0;               // heterogeneity texture grid (every kTexStep pixels)
   std::vector<float> tex_;

@@ -318,6 +318,65 @@ TEST(UltrasoundImager, HomogeneousTissueHasFullyDevelopedSpeckle) {
   }
 }
 
+// A rod (needle, seed) stops the same part of each beam that crosses it whatever its angle to the
+// beams: the envelope behind it falls by (1 - shadow), once. (An oblique rod covers several depth
+// samples of one beam; counting each of them darkened the region behind the 25 deg biopsy needle by
+// 22 dB instead of 4.4 dB: the dark band over the gland in the sagittal replay at 1.8 s.)
+TEST(UltrasoundImager, RodShadowIsTheSameAtAnyAngleToTheBeams) {
+  const auto& S = test::us_biopsy_scene();
+  for (PlaneKind kind : {PlaneKind::Sagittal, PlaneKind::Transverse}) {
+    PlaneImager probe_im(S.anatomy, S.settings, kind);
+    const us::PlaneFrame f = probe_im.frame(S.probe);
+    const us::UltrasoundAnatomy box = test::box_anatomy(f.origin + 0.035 * f.up, 0.2);  // homogeneous tissue
+    PlaneImager im(box, S.settings, kind);
+    std::vector<float> x;
+    for (const Vec3& p : box.rest)
+      for (int d = 0; d < 3; ++d) x.push_back(static_cast<float>(p[d]));
+    const std::vector<float> plain = im.render(scene_of(x, S.probe)).envelope;
+    const double r = S.settings.convex_radius, depth0 = 0.015;  // rod centre 15 mm deep [m]
+    for (double deg : {0.0, 25.0, 45.0, 70.0}) {
+      const double a = deg * 3.141592653589793 / 180.0, half = 0.008;  // 16 mm rod [m]
+      const double cs = 0.0, ct = r + depth0, ds = std::cos(a), dt = std::sin(a);
+      us::UltrasoundScene sc = scene_of(x, S.probe);
+      us::Rod rod;
+      rod.a = f.origin + (cs + half * ds) * f.right + (ct + half * dt) * f.up;
+      rod.b = f.origin + (cs - half * ds) * f.right + (ct - half * dt) * f.up;
+      rod.radius = 0.635e-3;  // 18 G, in the plane
+      sc.rods.push_back(rod);
+      const us::UsImage& img = im.render(sc);
+      std::vector<double> behind, before;
+      for (int j = 0; j < img.height; ++j)
+        for (int i = 0; i < img.width; ++i) {
+          const size_t p = static_cast<size_t>(j) * img.width + i;
+          if (!img.in_view[p] || plain[p] <= 0) continue;
+          const double s = im.pixel_s(i), t = im.pixel_t(j);
+          // the beam through this pixel: from (s, 0) along up (linear) or from the apex (sector)
+          double os = s, ot = 0, bs = 0, bt = 1;
+          if (kind == PlaneKind::Transverse) os = 0, bs = s / std::hypot(s, t), bt = t / std::hypot(s, t);
+          const double dist = (s - os) * bs + (t - ot) * bt;
+          // where the beam crosses the rod's line: os + L b = c + v d
+          const double det = bs * (-dt) - bt * (-ds);
+          if (std::abs(det) < 1e-9) continue;
+          const double rs = cs - os, rt = ct - ot;
+          const double L = (rs * (-dt) - rt * (-ds)) / det, v = (bs * rt - bt * rs) / det;
+          if (std::abs(v) > 0.7 * half) continue;  // away from the rod's ends
+          const double ratio = img.envelope[p] / plain[p];
+          if (dist > L + 3e-3 && dist < L + 15e-3) behind.push_back(ratio);
+          if (dist < L - 3e-3 && dist > L - 10e-3) before.push_back(ratio);
+        }
+      ASSERT_GT(behind.size(), 500u) << deg;
+      ASSERT_GT(before.size(), 200u) << deg;
+      std::sort(behind.begin(), behind.end());
+      std::sort(before.begin(), before.end());
+      const double mb = behind[behind.size() / 2], mf = before[before.size() / 2];
+      std::printf("%s, rod at %2.0f deg to the array: envelope ratio behind %.3f, in front %.3f (1 - shadow = %.2f)\n",
+                  kind == PlaneKind::Sagittal ? "sagittal" : "transverse", deg, mb, mf, 1.0 - rod.shadow);
+      EXPECT_NEAR(mb, 1.0 - rod.shadow, 0.05) << deg << " deg";
+      EXPECT_NEAR(mf, 1.0, 1e-3) << deg << " deg";
+    }
+  }
+}
+
 TEST(UltrasoundImager, IdenticalInputsGiveIdenticalImages) {
   const auto& S = test::us_biopsy_scene();
   const std::vector<float> x = deformation_states(*S.model)[2];
