@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "engine/tools/filling.h"
+#include "engine/tools/tool_report_text.h"
 #include "engine/util/error.h"
 
 namespace ps {
@@ -133,29 +134,12 @@ void FillingTool::describe(const ToolReport& r, char* out, size_t n, bool brief)
 }
 
 std::vector<std::string> FillingTool::reports() const {
-  std::vector<std::string> out;
-  if (reports_.dropped() > 0)
-    out.push_back(std::to_string(reports_.dropped()) + " earlier filling reports were dropped (ring of " +
-                  std::to_string(ToolReportRing::kCapacity) + ")");
-  char b[320];
-  for (int i = 0; i < reports_.size(); ++i) {
-    describe(reports_.at(i), b, sizeof b);
-    out.emplace_back(b);
-  }
-  return out;
+  return report_lines(reports_, "filling", [this](const ToolReport& r, char* b, size_t n, bool brief) { describe(r, b, n, brief); });
 }
 
 int64_t FillingTool::events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out) const {
-  for (int64_t k = std::max(cursor, reports_.dropped()); k < reports_.total(); ++k) {
-    const ToolReport& r = reports_.record(k);
-    SnapshotEvent e;
-    e.time = r.time;
-    e.tool = tool_index;
-    e.kind = kSnapshotEventAdjusted;
-    describe(r, e.text.data(), e.text.size(), true);
-    out.push_back(e);
-  }
-  return reports_.total();
+  return report_events(reports_, cursor, tool_index, out,
+                       [this](const ToolReport& r, char* b, size_t n, bool brief) { describe(r, b, n, brief); });
 }
 
 }  // namespace ps
