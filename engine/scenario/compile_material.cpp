@@ -11,6 +11,12 @@ namespace ps {
 
 namespace {
 
+// the local Poisson ratio of the strain, tet and shell models: the file's, or the default of an
+// incompressible or a compressible material
+double local_poisson(const MaterialSpec& mat) {
+  return mat.poisson ? *mat.poisson : mat.incompressible ? kStrainPoissonIncompressible : kStrainPoissonDefault;
+}
+
 void component_materials(const ScenarioSpec& spec, Model& m, CompileWork& work) {
   const int n = m.particle_count();
   const auto& faces_of = work.faces_of;
@@ -55,7 +61,7 @@ void component_materials(const ScenarioSpec& spec, Model& m, CompileWork& work) 
     TetParticle tp;
     ShellParticle shp;
     if (mat.shell_model) {
-      const double nu = mat.poisson ? *mat.poisson : mat.incompressible ? kStrainPoissonIncompressible : kStrainPoissonDefault;
+      const double nu = local_poisson(mat);
       shp.mu = strain_moduli(*mat.young, nu).mu;
       shp.poisson = nu;
       shp.thickness = *mat.thickness;
@@ -65,7 +71,7 @@ void component_materials(const ScenarioSpec& spec, Model& m, CompileWork& work) 
       if (!cs.volumetric)
         throw InputError(spec.file, mat.loc.line, "materials." + mat.name + ".model",
                          "model: tet needs volumetric components, '" + cs.name + "' is fill: surface");
-      const double nu = mat.poisson ? *mat.poisson : mat.incompressible ? kStrainPoissonIncompressible : kStrainPoissonDefault;
+      const double nu = local_poisson(mat);
       const StrainModuli sm = strain_moduli(*mat.young, nu);
       tp.mu = sm.mu;
       tp.lambda = sm.lambda;
@@ -76,7 +82,7 @@ void component_materials(const ScenarioSpec& spec, Model& m, CompileWork& work) 
       if (!cs.volumetric)
         throw InputError(spec.file, mat.loc.line, "materials." + mat.name + ".model",
                          "model: strain needs volumetric components, '" + cs.name + "' is fill: surface");
-      const double nu = mat.poisson ? *mat.poisson : mat.incompressible ? kStrainPoissonIncompressible : kStrainPoissonDefault;
+      const double nu = local_poisson(mat);
       if (mat.k_s) {  // raw: mu = k_s / h, lambda from the same local Poisson ratio
         sp.mu = *mat.k_s / cs.spacing;
         sp.lambda = 2.0 * sp.mu * nu / (1.0 - 2.0 * nu);
