@@ -19,6 +19,7 @@
 // (momentum) and the energy is rotation invariant (angular momentum). No allocation: the node
 // scratch is State::tet_node_vol, sized at make_state.
 #include "engine/step/stages.h"
+#include "engine/util/multiversion.h"
 
 namespace ps {
 
@@ -124,9 +125,7 @@ inline void element_forces_scalar(const TetElements& te, const Vec3* x, const do
 // in element order, so the result is bit-identical to element_forces_scalar: only the
 // arithmetic is vectorised, the gathers and the scatter stay scalar. Built for AVX and the
 // baseline (target_clones, chosen at load time).
-#if defined(__x86_64__) && defined(__GNUC__) && defined(__ELF__)
-__attribute__((target_clones("avx", "default")))
-#endif
+PS_TARGET_CLONES("avx", "default")
 void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, int begin, int end, double scale, Vec3* f) {
   typedef double D4 __attribute__((vector_size(32)));
   const int* vv = te.v.data();

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "engine/step/stages.h"
+#include "engine/util/multiversion.h"
 
 namespace ps {
 
@@ -20,9 +21,7 @@ double surface_volume(const Surface& surf, const std::vector<Vec3>& x) {
 
 // Built twice like the shape-memory stage (shape_memory.cpp): VEX-encoded on CPUs with AVX, the
 // same operations otherwise; "avx" has no FMA, so both builds give bit-identical results.
-#if defined(__x86_64__) && defined(__GNUC__) && defined(__ELF__)
-__attribute__((target_clones("avx", "default")))
-#endif
+PS_TARGET_CLONES("avx", "default")
 bool project_volumes(const Model& m, State& s) {
   Vec3* g = s.volume_grad.data();
   const Vec3* x = s.x.data();

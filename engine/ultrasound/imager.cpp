@@ -8,6 +8,7 @@
 #include <string>
 
 #include "engine/ultrasound/speckle.h"
+#include "engine/util/multiversion.h"
 #include "engine/ultrasound/speckle_row.h"
 
 namespace ps::us {
@@ -52,11 +53,9 @@ inline float fast_log2(float x) {
 
 // separable convolution, zero outside the buffer: `in` -> `out` along x or y. Loops run over the
 // pixels for one tap at a time (contiguous, vectorisable); `pad` is scratch of w + taps floats.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 // built for AVX2 and the baseline, chosen at load time: 8 floats a step instead of 4 (no FMA, so
 // the same roundings as the baseline: bit-identical images)
-__attribute__((target_clones("avx2", "default"), optimize("O3")))
-#endif
+PS_TARGET_CLONES("avx2", "default") PS_OPTIMIZE_O3
 void convolve_separable(const float* in, float* out, int w, int h, const float* k, int taps, bool along_x, float* pad) {
   const int r = taps / 2;
   if (along_x) {
@@ -95,9 +94,7 @@ void convolve_separable(const float* in, float* out, int w, int h, const float* 
 
 // log compression of one run of pixels (compress()): envelope |re + i im| x transmission x TGC,
 // then gray = a log2(env) + b0 on [0, 255]; outside the view 0. Built like convolve().
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default"), optimize("O3")))
-#endif
+PS_TARGET_CLONES("avx2", "default") PS_OPTIMIZE_O3
 void compress_run(const float* re, const float* im, const float* tgc, const int* lut_i, const float* lut_wb, const float* lut_wk,
                   const uint8_t* in_view, const float* T, int NS, float a, float b0, float* envelope, uint8_t* pixels, size_t n) {
   for (size_t p = 0; p < n; ++p) {

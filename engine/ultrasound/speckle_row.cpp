@@ -2,6 +2,8 @@
 
 #include <cstdint>
 
+#include "engine/util/multiversion.h"
+
 namespace ps::us {
 
 namespace {
@@ -17,9 +19,7 @@ inline float lo16(uint32_t h) { return static_cast<float>(static_cast<int32_t>(h
 inline float hi16(uint32_t h) { return static_cast<float>(static_cast<int32_t>(h >> 16) - 32768); }
 }  // namespace
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default"), optimize("O3")))
-#endif
+PS_TARGET_CLONES("avx2", "default") PS_OPTIMIZE_O3
 void speckle_row(const float* qx, const float* qy, const float* qz, const float* amp, float* re, float* im, int n) {
   for (int p = 0; p < n; ++p) {
     const float x = qx[p], y = qy[p], z = qz[p];
