@@ -28,13 +28,14 @@ struct StressOptions {
 };
 
 struct StressResult {
-  std::string scene, name;
-  std::string tried;            // what the case did, with numbers
-  std::string held;             // what held (or what broke: case, time, particle)
-  std::string status;           // held | FAIL | TIMEOUT | refused | skipped
+  // default member initializers: the cases fill a prefix ({scene, name} or five fields)
+  std::string scene{}, name{};
+  std::string tried{};          // what the case did, with numbers
+  std::string held{};           // what held (or what broke: case, time, particle)
+  std::string status{};         // held | FAIL | TIMEOUT | refused | skipped
   double sim_s = 0.0;           // simulated time reached [s]
   double wall_s = 0.0;          // wall time spent [s]
-  std::vector<std::pair<std::string, double>> figures;  // measured numbers (soak: drift) by name
+  std::vector<std::pair<std::string, double>> figures{};  // measured numbers (soak: drift) by name
   bool failed() const { return status == "FAIL" || status == "TIMEOUT"; }
 };
 

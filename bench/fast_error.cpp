@@ -1,5 +1,5 @@
 // `prostatesim_bench --fast-error SCENE SUBSTEPS MASS_SCALING TRIPLETS DURATION_S [REF_SUBSTEPS [FAST_NU
-//  [FAST_PRESSURE [PRESSURE_ITERATIONS]]]]`:
+//  [FAST_PRESSURE [PRESSURE_ITERATIONS [FAST_SLEEP_WAKE]]]]]`:
 // error of a fast configuration (SUBSTEPS per tick, 0 = the file's; solver.mass_scaling 0/1, -1 =
 // the file's; solver.triplets = TRIPLETS, 0 = all)
 // against the converged reference (the paper's scheme, every triplet, REF_SUBSTEPS per tick,
@@ -11,8 +11,12 @@
 // keeps the file's): the error of a softer local volume term, against the file's model.
 // The reference always runs the explicit pressure (materials' `pressure: implicit` off): the
 // converged explicit scheme. FAST_PRESSURE 0/1 sets the fast run's prostate material explicit/implicit
-// (-1: the file's); PRESSURE_ITERATIONS > 0 sets its solver.pressure_iterations.
+// (-1: the file's); PRESSURE_ITERATIONS > 0 sets its solver.pressure_iterations. FAST_SLEEP_WAKE
+// sets the fast run's sleeping tissue: 0 off, > 0 on with that solver.sleep_wake_m_s2, < 0 (the
+// default) the file's; the reference never sleeps.
+#include <algorithm>
 #include <cstdio>
+#include <ctime>
 #include <cstdlib>
 
 #include "bench/bench_modes.h"
@@ -23,16 +27,22 @@
 namespace ps::bench {
 
 int fast_error(const std::string& scene, int substeps, int mass_scaling, int triplets, double duration,
-               int ref_substeps, double fast_nu, int fast_pressure, int pressure_iterations) {
+               int ref_substeps, double fast_nu, int fast_pressure, int pressure_iterations, double fast_sleep_wake) {
   const ScenarioSpec ref_spec0 = realtime_scene(scene);
   if (ref_substeps <= 0) ref_substeps = 2 * ref_spec0.substeps;
   ScenarioSpec ref_spec = realtime_scene(scene, 0, ref_substeps, 0, 0);  // plain explicit, every element every substep
   for (MaterialSpec& mat : ref_spec.materials) mat.implicit_pressure = false;
+  ref_spec.sleep = false;
   ScenarioSpec fast_spec = realtime_scene(scene, triplets, substeps, mass_scaling);
   if (fast_pressure >= 0)
     for (MaterialSpec& mat : fast_spec.materials)
       if (mat.name == "prostate") mat.implicit_pressure = fast_pressure != 0;
   if (pressure_iterations > 0) fast_spec.pressure_iterations = pressure_iterations;
+  if (fast_sleep_wake == 0.0) fast_spec.sleep = false;
+  if (fast_sleep_wake > 0.0) {
+    fast_spec.sleep = true;
+    fast_spec.sleep_wake_accel = fast_sleep_wake;
+  }
   if (fast_nu > 0.0)
     for (MaterialSpec& mat : fast_spec.materials)
       if (mat.name == "prostate") mat.poisson = fast_nu;
@@ -41,15 +51,25 @@ int fast_error(const std::string& scene, int substeps, int mass_scaling, int tri
   const Vec3 target = realtime_target(scene, ref_spec);
   std::printf("%s: reference all triplets, %d substeps (estimate %.4g ms); fast %d triplets, %d substeps "
               "(estimate %.4g ms), mass scaling %s (added inertia %.4g g, largest factor %.3g), multirate %s "
-              "(%d of %d tet elements once per tick), implicit pressure on %d nodes x %d solve(s); %.3f s\n",
+              "(%d of %d tet elements once per tick), implicit pressure on %d nodes x %d solve(s), sleep %s (%d particles may, wake at %.3g m/s^2); %.3f s\n",
               scene.c_str(), ref_model->substeps, ref_model->stable_dt_estimate * 1e3, triplets, fast_model->substeps,
               fast_model->stable_dt_estimate * 1e3, fast_spec.mass_scaling ? "on" : "off",
               fast_model->added_inertia * 1e3, fast_model->largest_inertia_factor, fast_spec.multirate ? "on" : "off",
               fast_model->tets.count() - fast_model->tets.fast_count, fast_model->tets.count(),
-              fast_model->tet_pressure.size(), fast_model->tet_pressure.iterations, duration);
+              fast_model->tet_pressure.size(), fast_model->tet_pressure.iterations, fast_model->sleep.enabled() ? "on" : "off",
+              fast_model->sleep.eligible_count, fast_model->sleep.wake_accel, duration);
   std::fflush(stdout);
+  const std::clock_t c0 = std::clock();
   const Trajectory ref = record_trajectory(ref_spec, ref_model, duration, target);
+  const std::clock_t c1 = std::clock();
   const Trajectory fast = record_trajectory(fast_spec, fast_model, duration, target);
+  const std::clock_t c2 = std::clock();
+  // CPU time of each run (this process, one thread; the recording adds a little to both)
+  std::printf("cpu: reference %.2f s, fast %.2f s (%.3f ms per tick, %.3g sim s per CPU s); fast run evaluated %.1f %% of "
+              "the tet elements on average\n",
+              double(c1 - c0) / CLOCKS_PER_SEC, double(c2 - c1) / CLOCKS_PER_SEC,
+              1e3 * double(c2 - c1) / CLOCKS_PER_SEC / std::max<size_t>(1, fast.watched.size()),
+              duration / std::max(1e-9, double(c2 - c1) / CLOCKS_PER_SEC), 100.0 * fast.evaluated_elements);
   if (ref.faulted || fast.faulted) {
     std::printf("fault: reference %s, fast %s\n", ref.fault.c_str(), fast.fault.c_str());
     return 1;

@@ -40,6 +40,12 @@ int run_ticks(const std::string& file, int ticks) {
   }
   std::printf("%s: %d ticks of %d substeps, %zu tools, hash_state %016llx\n", file.c_str(), ticks, model->substeps, sim.tools().size(),
               static_cast<unsigned long long>(hash_state(sim.state())));
+  if (model->sleep.enabled()) {
+    int asleep = 0;
+    for (uint8_t a : sim.state().asleep) asleep += a;
+    std::printf("sleeping: %d of %d particles that may sleep; %d of %d tet elements evaluated\n", asleep,
+                model->sleep.eligible_count, sim.state().tet_awake_count, model->tets.count());
+  }
   return 0;
 }
 

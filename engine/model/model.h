@@ -195,6 +195,27 @@ struct TetPressure {
   int size() const { return static_cast<int>(row_slot.size()); }
 };
 
+// Sleeping tissue (solver.sleep, docs/model.md "Sleeping tissue"; compiled by compile_sleep,
+// engine/scenario/compile_sleep.cpp; stepped by engine/step/tet_sleep.cpp). A tet particle at
+// rest and in balance falls asleep: it is not integrated, and a tet element whose four nodes all
+// sleep is not evaluated (its volume shares and forces are held from when it fell asleep). A
+// sleeping particle wakes as soon as a load reaches it: its unbalanced force (the evaluated
+// elements, the held ones, gravity, tools) exceeds mass x wake_accel, or a constraint moves it.
+// Eligible: particles of tet components with explicit pressure that nothing else moves directly
+// (not on a volume-constrained surface, not in the implicit pressure's support, not fixed).
+struct TetSleep {
+  enum Role : uint8_t { kAwake = 0, kMaySleep = 1, kFixed = 2 };
+  std::vector<uint8_t> role;       // [n particles] kAwake: never sleeps; kMaySleep; kFixed: held on
+                                   // every axis by a fixed constraint, counts as asleep for its
+                                   // elements. Empty: sleeping is off
+  double wake_accel = 0.0;         // unbalanced force / mass that wakes a sleeping particle [m/s^2]
+  double sleep_accel = 0.0;        // ... below which an awake one counts as balanced [m/s^2]
+  double sleep_speed = 0.0;        // ... and its speed as at rest [m/s]
+  int hold_ticks = 0;              // tick ends in a row balanced and at rest before it sleeps
+  int eligible_count = 0;          // particles with role kMaySleep
+  bool enabled() const { return !role.empty(); }
+};
+
 // Shell elements of membrane components (material `model: shell`, docs/model.md "Shell model"):
 // the bladder and rectal walls as thin shells on their own surface triangulation, built once by
 // build_shell_elements (engine/model/shell_elements.cpp); the force is engine/step/shell_elastic.cpp.
@@ -262,6 +283,7 @@ struct Model {
   StrainClusters strain;           // strain-memory clusters (empty: no `model: strain` material)
   TetElements tets;                // tet-model elements (empty: no `model: tet` material)
   TetPressure tet_pressure;        // implicit nodal pressure (empty: no `pressure: implicit` material)
+  TetSleep sleep;                  // sleeping tissue (empty: solver.sleep off)
   ShellElements shells;            // shell-model membranes (empty: no `model: shell` material)
   bool any_shape_memory = true;    // some particle has k_e > 0 (else the stage is left out)
 

@@ -76,6 +76,13 @@ uint64_t model_hash(const Model& m) {
   f.pod(m.tet_pressure.h);
   f.pod(m.tet_pressure.iterations);
   f.pod(m.tets.fast_count);
+  if (m.sleep.enabled()) {  // only then: a scene without sleeping tissue keeps its hash
+    f.vec(m.sleep.role);
+    f.pod(m.sleep.wake_accel);
+    f.pod(m.sleep.sleep_accel);
+    f.pod(m.sleep.sleep_speed);
+    f.pod(m.sleep.hold_ticks);
+  }
   f.vec(m.shells.tri);
   f.vec(m.shells.bm);
   f.vec(m.shells.area_t);

@@ -43,6 +43,7 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   compile_time_step(spec, m, work);                      // stable substep; multirate, mass scaling, substeps
   if (std::string note = build_tet_pressure(m, spec.pressure_iterations); !note.empty())
     work.notes.push_back(note);                          // implicit pressure: factor for the final substep
+  compile_sleep(spec, m, work);                          // sleeping tissue: who may sleep (needs the pressure's support)
 
   const auto& warnings = work.warnings;
   const auto& notes = work.notes;

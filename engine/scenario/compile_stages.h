@@ -55,6 +55,9 @@ void compile_fibres(Model& m);
 // stable_dt_estimate, substeps; multirate order of the tets; mass scaling (every force)
 // (compile_time_step.cpp)
 void compile_time_step(const ScenarioSpec& spec, Model& m, CompileWork& work);
+// sleep: which particles may sleep and the thresholds (tets, tet_pressure, surfaces, constraints)
+// (compile_sleep.cpp)
+void compile_sleep(const ScenarioSpec& spec, Model& m, CompileWork& work);
 
 inline const MaterialSpec& find_material(const ScenarioSpec& spec, const std::string& name) {
   for (const auto& m : spec.materials)

@@ -40,6 +40,7 @@ Trajectory record_trajectory(const ScenarioSpec& spec, std::shared_ptr<const Mod
   const long ticks = std::lround(duration / m.dt);
   int64_t seen_events = 0;  // events pushed so far (total, so a wrapped ring is handled)
   double contact_depth = -1.0;
+  double evaluated = 0.0;  // sum over ticks of the evaluated fraction of the tet elements
   for (long k = 0; k < ticks; ++k) {
     if (!sim.tick()) {
       tr.faulted = true;
@@ -51,6 +52,8 @@ Trajectory record_trajectory(const ScenarioSpec& spec, std::shared_ptr<const Mod
     w.reserve(tr.watched_particles.size());
     for (int p : tr.watched_particles) w.push_back(s.x[p]);
     tr.watched.push_back(std::move(w));
+    if (m.sleep.enabled() && m.tets.count() > 0) evaluated += static_cast<double>(s.tet_awake_count) / m.tets.count();
+    else evaluated += 1.0;
     for (const Surface& surf : m.surfaces)
       if (surf.volume_constrained) {
         const auto err = volume_errors(m, s);
@@ -81,6 +84,7 @@ Trajectory record_trajectory(const ScenarioSpec& spec, std::shared_ptr<const Mod
       seen_events = ring.total();
     }
   }
+  if (!tr.watched.empty()) tr.evaluated_elements = evaluated / static_cast<double>(tr.watched.size());
   return tr;
 }
 

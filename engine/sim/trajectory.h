@@ -32,6 +32,8 @@ struct Trajectory {
   std::vector<PunctureRecord> punctures;
   double worst_volume_error = 0.0; // largest relative error of a constrained volume, any tick
   double max_tenting = 0.0;        // largest tip travel between contact and first breach [m]
+  double evaluated_elements = 1.0; // mean over ticks of the fraction of tet elements evaluated
+                                   // (below 1 when tissue sleeps, solver.sleep)
   bool faulted = false;
   std::string fault;
 };

@@ -201,6 +201,8 @@ struct ScenarioSpec {
   bool multirate = false;          // solver.multirate: tet elements that admit the tick run once per tick
   int pressure_iterations = 1;     // solver.pressure_iterations: linearised solves of the implicit
                                    // pressure per substep (materials with pressure: implicit)
+  bool sleep = false;              // solver.sleep: tet tissue at rest and in balance sleeps (Model::sleep)
+  double sleep_wake_accel = 0.1;   // solver.sleep_wake_m_s2: unbalanced force / mass that wakes it [m/s^2]
   std::vector<MaterialSpec> materials;
   std::vector<ComponentSpec> components;
   std::vector<ConstraintSpec> constraints;

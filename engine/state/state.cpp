@@ -29,6 +29,16 @@ State make_state(const Model& model) {
     s.tet_slow_vol.assign(model.tets.nodes.size(), 0.0);
     s.tet_slow_f.assign(model.rest_pos.size(), Vec3::Zero());
   }
+  if (model.sleep.enabled()) {  // everything awake: every element evaluated, nothing held
+    const int nt = model.tets.count();
+    s.asleep.assign(n, 0);
+    s.quiet_ticks.assign(n, 0);
+    s.tet_order.resize(nt);
+    for (int t = 0; t < nt; ++t) s.tet_order[t] = t;
+    s.tet_awake_count = nt;
+    s.tet_held_vol.assign(model.tets.nodes.size(), 0.0);
+    s.tet_held_f.assign(n, Vec3::Zero());
+  }
   s.bodies.resize(model.rigid_bodies.size());
   for (size_t b = 0; b < model.rigid_bodies.size(); ++b) s.bodies[b].com = model.rigid_bodies[b].com_rest;
   s.target_volume.resize(model.surfaces.size());

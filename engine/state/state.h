@@ -64,6 +64,14 @@ struct State {
   std::vector<double> pressure_work;    // [k] triangular-solve scratch
   std::vector<double> pressure_lambda;  // [k] multiplier accumulated over the substep's solves [kg/m]
   std::vector<Vec3> pressure_dx;        // [n] position correction of the support particles [m kg]
+  // sleeping tissue (Model::sleep; empty when it is off). Part of save() and the hash: which
+  // elements run, and the held shares and forces of those that do not, decide the next step.
+  std::vector<uint8_t> asleep;          // [n] 1: the particle sleeps (not integrated, v = 0)
+  std::vector<uint16_t> quiet_ticks;    // [n] tick ends in a row an awake eligible particle was balanced and at rest
+  std::vector<int> tet_order;           // [tet elements] the evaluated elements ascending, then the held ones ascending
+  int tet_awake_count = 0;              // how many of tet_order are evaluated
+  std::vector<double> tet_held_vol;     // [Model::tets.nodes] volume shares of the held elements [m^3]
+  std::vector<Vec3> tet_held_f;         // [n] force of the held elements when they were last evaluated [N]
   StepFault fault;
   int64_t clamp_count = 0;         // times a safety clamp acted
 };

@@ -18,8 +18,13 @@ inline D2 load2(const double* p) { return *reinterpret_cast<const U2*>(p); }
 inline void store2(double* p, D2 v) { *reinterpret_cast<U2*>(p) = v; }
 }  // namespace
 
-void integrate(const Model& m, State& s, double dt) {
+namespace {
+// Asleep: the sleeping-tissue variant (State::asleep, tet_sleep.cpp), whose sleeping particles
+// stay where they are; a scene without sleeping tissue runs the loop without the test.
+template <bool Asleep>
+void integrate_particles(const Model& m, State& s, double dt) {
   const int n = m.particle_count();
+  const uint8_t* asleep = s.asleep.data();
   const double* inv_mass = m.inv_mass.data();
   const double* damping = m.damping.data();
   const Vec3* f = s.f.data();
@@ -30,6 +35,9 @@ void integrate(const Model& m, State& s, double dt) {
   for (int p = 0; p < n; ++p) {
     const double im = inv_mass[p];
     if (im == 0.0) continue;  // rigid or kinematic: placed by its body or constraint
+    if constexpr (Asleep) {
+      if (asleep[p]) continue;  // v is 0 and stays 0 while it sleeps
+    }
     // v = (v + dt im f) / (1 + c dt), x += dt v: x and y as one 2-lane operation (the same IEEE
     // operations as three scalar ones: one division instruction fewer)
     const double a = dt * im, d = 1.0 + damping[p] * dt;
@@ -43,6 +51,12 @@ void integrate(const Model& m, State& s, double dt) {
     store2(xp, load2(xp) + D2{dt, dt} * vxy);
     xp[2] += dt * vz;
   }
+}
+}  // namespace
+
+void integrate(const Model& m, State& s, double dt) {
+  if (s.asleep.empty()) integrate_particles<false>(m, s, dt);
+  else integrate_particles<true>(m, s, dt);
 }
 
 void adjust_velocities(State& s, double dt) {

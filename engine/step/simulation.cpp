@@ -35,6 +35,7 @@ const char* stage_name(Stage s) {
     case Stage::ShellElastic: return "shell_elastic";
     case Stage::TetTickEnd: return "tet_tick_end";
     case Stage::TetPressure: return "tet_pressure";
+    case Stage::Sleep: return "sleep";
   }
   return "?";
 }
@@ -77,6 +78,7 @@ void Simulation::build_pipeline() {
   if (volume) pipeline_.push_back(Stage::Volume);
   pipeline_.push_back(Stage::AdjustVelocity);
   if (m.tets.multirate()) pipeline_.push_back(Stage::TetTickEnd);  // the slow group's closing half kick
+  if (m.sleep.enabled()) pipeline_.push_back(Stage::Sleep);  // who sleeps, who wakes (after the velocities)
   pipeline_.push_back(Stage::Check);
   if (tools) pipeline_.push_back(Stage::ToolAfter);
 }
@@ -118,6 +120,7 @@ bool Simulation::step(double dt, StageProbe* probe) {
         if (!project_volumes(m, s)) return false;
         break;
       case Stage::AdjustVelocity: adjust_velocities(s, dt); break;
+      case Stage::Sleep: update_tet_sleep(m, s, ctx_->last_substep); break;
       case Stage::TetTickEnd:
         if (ctx_->last_substep) end_tet_tick(m, s, dt * ctx_->substeps);
         break;
@@ -182,6 +185,14 @@ void serialize_state(State& s, StateIO& io) {
   io.array(s.tet_slow_vol);
   io.array(s.tet_slow_f);
   io.pod(s.tet_slow_f_valid);
+  if (!s.asleep.empty()) {  // sleeping tissue (a model without it saves none of this)
+    io.array(s.asleep);
+    io.array(s.quiet_ticks);
+    io.array(s.tet_order);
+    io.pod(s.tet_awake_count);
+    io.array(s.tet_held_vol);
+    io.array(s.tet_held_f);
+  }
 }
 
 void Simulation::save(std::vector<uint8_t>& out) {
@@ -196,6 +207,13 @@ void Simulation::restore(const std::vector<uint8_t>& in) {
   serialize_state(state_, io);
   for (auto& t : tools_) t->serialize(io);
   if (io.position() != in.size()) throw std::runtime_error("Simulation::restore: saved state is longer than this simulation's");
+  if (!state_.asleep.empty()) {  // the step indexes with these: a damaged file must not reach it
+    const int nt = model_->tets.count();
+    bool ok = state_.tet_awake_count >= 0 && state_.tet_awake_count <= nt;
+    for (int t : state_.tet_order) ok = ok && t >= 0 && t < nt;
+    for (uint8_t a : state_.asleep) ok = ok && a <= 1;
+    if (!ok) throw std::runtime_error("Simulation::restore: saved sleeping-tissue state is damaged (element list or flags out of range)");
+  }
 }
 
 uint64_t Simulation::hash() {

@@ -89,7 +89,7 @@ class Tool {
 enum class Stage : uint8_t {
   ImposedDisplacement, ExternalForces, ShapeMemory, StrainMemory, TetElastic, ActiveFibres, ToolBoundary, ToolForces,
   RigidForces, Integrate, RigidIntegrate, LocalConstraints, ToolConstraints, Volume,
-  AdjustVelocity, Check, ToolAfter, ShellElastic, TetTickEnd, TetPressure
+  AdjustVelocity, Check, ToolAfter, ShellElastic, TetTickEnd, TetPressure, Sleep
 };
 const char* stage_name(Stage s);
 

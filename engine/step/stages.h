@@ -43,6 +43,21 @@ double shell_elastic_energy(const Model& m, const State& s);
 void add_active_forces(const Model& m, State& s);
 // rigid.cpp: moves forces of attached elastic particles onto their rigid bodies
 void gather_rigid_forces(const Model& m, State& s);
+// tet_sleep.cpp: sleeping tissue (Model::sleep), after the velocity adjustment of every substep:
+// a sleeping particle that a load reached wakes; at a tick's end (tick_end) an awake one that has
+// been balanced and at rest for Model::sleep.hold_ticks falls asleep. When either happens the
+// evaluated elements and the held shares and forces are rebuilt (rebuild_tet_sleep).
+void update_tet_sleep(const Model& m, State& s, bool tick_end);
+// tet_sleep.cpp: State::tet_order from State::asleep, and the held elements' volume shares and
+// forces at the current positions
+void rebuild_tet_sleep(const Model& m, State& s);
+// tet_elastic.cpp: elements list[0..count) (ascending) add their volume shares V_t / 4 to vol
+// (indexed like Model::tets.nodes) [m^3]
+void add_tet_node_volumes(const TetElements& te, const Vec3* x, const int* list, int count, double* vol);
+// tet_elastic.cpp: node volume shares vol [m^3] -> node pressures kappa (J_n - 1) [Pa], in place
+void tet_node_pressures(const TetElements& te, double* vol);
+// tet_elastic.cpp: the force of elements list[0..count), with node pressures p [Pa], added to f
+void add_tet_element_forces(const TetElements& te, const Vec3* x, const double* p, const int* list, int count, Vec3* f);
 // integrate.cpp: symplectic Euler with implicit velocity damping v /= (1 + c dt)
 void integrate(const Model& m, State& s, double dt);
 // tet_pressure.cpp: the implicit nodal pressure of `pressure: implicit` tet nodes (Model::tet_pressure)

@@ -64,13 +64,16 @@ void node_volumes(const TetElements& te, const std::vector<Vec3>& x, double* vol
 // The element pass in plain scalars (no Eigen temporaries): F, its cofactor and
 // P = V0 (mu F + (pbar - mu) cof F) stay in registers; about half the time of the Mat3 form.
 // Elements [begin, end); node pressures p [Pa] (indexed like te.nodes); forces times scale added to f.
-inline void element_forces_scalar(const TetElements& te, const Vec3* x, const double* p, int begin, int end, double scale, Vec3* f) {
+// list: element indices (nullptr: [begin, end) themselves), entries [begin, end) of it.
+inline void element_forces_scalar(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end,
+                                  double scale, Vec3* f) {
   const int* vv = te.v.data();
   const int* slot = te.node_slot.data();
   const double* gg = te.g.data();
   const double* vol0 = te.vol0.data();
   const double* mu_t = te.mu.data();
-  for (int t = begin; t < end; ++t) {
+  for (int k = begin; k < end; ++k) {
+    const int t = list ? list[k] : k;
     const int* v = vv + 4 * t;
     const double* g = gg + 9 * t;
     const double* x0 = x[v[0]].data();
@@ -124,28 +127,31 @@ inline void element_forces_scalar(const TetElements& te, const Vec3* x, const do
 // same order (no FMA in either target), and the forces are added to the particles lane by lane
 // in element order, so the result is bit-identical to element_forces_scalar: only the
 // arithmetic is vectorised, the gathers and the scatter stay scalar. Built for AVX and the
-// baseline (target_clones, chosen at load time).
+// baseline (target_clones, chosen at load time). list: as element_forces_scalar.
 PS_TARGET_CLONES("avx", "default")
-void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, int begin, int end, double scale, Vec3* f) {
+void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale,
+                        Vec3* f) {
   typedef double D4 __attribute__((vector_size(32)));
   const int* vv = te.v.data();
   const int* slot = te.node_slot.data();
   const double* gg = te.g.data();
   const double* vol0 = te.vol0.data();
   const double* mu_t = te.mu.data();
-  int t = begin;
-  for (; t + 4 <= end; t += 4) {
-    const int* v = vv + 4 * t;  // v[4 l + i]: lane l's vertex i
+  int k = begin;
+  for (; k + 4 <= end; k += 4) {
+    int id[4];  // lane l's element
+    for (int l = 0; l < 4; ++l) id[l] = list ? list[k + l] : k + l;
+    const int* vl[4] = {vv + 4 * id[0], vv + 4 * id[1], vv + 4 * id[2], vv + 4 * id[3]};  // vl[l][i]: lane l's vertex i
     D4 e1[3], e2[3], e3[3], g[9];
     for (int r = 0; r < 3; ++r)
       for (int l = 0; l < 4; ++l) {
-        const double x0 = x[v[4 * l]][r];
-        e1[r][l] = x[v[4 * l + 1]][r] - x0;
-        e2[r][l] = x[v[4 * l + 2]][r] - x0;
-        e3[r][l] = x[v[4 * l + 3]][r] - x0;
+        const double x0 = x[vl[l][0]][r];
+        e1[r][l] = x[vl[l][1]][r] - x0;
+        e2[r][l] = x[vl[l][2]][r] - x0;
+        e3[r][l] = x[vl[l][3]][r] - x0;
       }
     for (int i = 0; i < 9; ++i)
-      for (int l = 0; l < 4; ++l) g[i][l] = gg[9 * (t + l) + i];
+      for (int l = 0; l < 4; ++l) g[i][l] = gg[9 * id[l] + i];
     D4 F[3][3];
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) F[r][c] = e1[r] * g[c] + e2[r] * g[3 + c] + e3[r] * g[6 + c];
@@ -161,10 +167,10 @@ void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, i
     C[2][2] = F[0][0] * F[1][1] - F[1][0] * F[0][1];
     D4 pbar, sv, mu;
     for (int l = 0; l < 4; ++l) {
-      const int* w = v + 4 * l;
+      const int* w = vl[l];
       pbar[l] = p[slot[w[0]]] + p[slot[w[1]]] + p[slot[w[2]]] + p[slot[w[3]]];
-      sv[l] = scale * vol0[t + l];
-      mu[l] = mu_t[t + l];
+      sv[l] = scale * vol0[id[l]];
+      mu[l] = mu_t[id[l]];
     }
     pbar = 0.25 * pbar;
     const D4 a = sv * mu, b = sv * (pbar - mu);
@@ -178,7 +184,7 @@ void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, i
       f3[r] = -(P[r][0] * g[6] + P[r][1] * g[7] + P[r][2] * g[8]);
     }
     for (int l = 0; l < 4; ++l) {
-      const int* w = v + 4 * l;
+      const int* w = vl[l];
       double* F0 = f[w[0]].data();
       double* F1 = f[w[1]].data();
       double* F2 = f[w[2]].data();
@@ -191,13 +197,13 @@ void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, i
       }
     }
   }
-  element_forces_scalar(te, x, p, t, end, scale, f);
+  element_forces_scalar(te, x, p, list, k, end, scale, f);
 }
 
 namespace {
 
 inline void element_forces(const TetElements& te, const Vec3* x, const double* p, int begin, int end, double scale, Vec3* f) {
-  tet_element_forces(te, x, p, begin, end, scale, f);
+  tet_element_forces(te, x, p, nullptr, begin, end, scale, f);
 }
 
 // The slow elements' force at the current positions into s.tet_slow_f, with their volume shares
@@ -220,6 +226,26 @@ void slow_force_now(const Model& m, State& s) {
 
 }  // namespace
 
+void add_tet_node_volumes(const TetElements& te, const Vec3* x, const int* list, int count, double* vol) {
+  const int* vv = te.v.data();
+  const int* slot = te.node_slot.data();
+  for (int k = 0; k < count; ++k) {
+    const int* v = vv + 4 * list[k];
+    const Vec3 x0 = x[v[0]];
+    const double quarter = (x[v[1]] - x0).dot((x[v[2]] - x0).cross(x[v[3]] - x0)) / 24.0;  // V_t / 4
+    for (int i = 0; i < 4; ++i) vol[slot[v[i]]] += quarter;
+  }
+}
+
+void tet_node_pressures(const TetElements& te, double* vol) {
+  const int nn = static_cast<int>(te.nodes.size());
+  for (int a = 0; a < nn; ++a) vol[a] = te.node_kappa_explicit[a] * (vol[a] * te.node_inv_vol0[a] - 1.0);  // [Pa]
+}
+
+void add_tet_element_forces(const TetElements& te, const Vec3* x, const double* p, const int* list, int count, Vec3* f) {
+  tet_element_forces(te, x, p, list, 0, count, 1.0, f);
+}
+
 void end_tet_tick(const Model& m, State& s, double tick) {
   slow_force_now(m, s);
   const double half = 0.5 * tick;  // the closing half kick [s]
@@ -236,6 +262,18 @@ void add_tet_elastic_forces(const Model& m, State& s, TetPass pass, int substeps
   const int nt = te.count(), nf = te.fast_count;
   const int nn = static_cast<int>(te.nodes.size());
   double* p = s.tet_node_vol.data();
+  if (!s.asleep.empty() && pass == TetPass::All) {
+    // sleeping tissue (tet_sleep.cpp): only the elements with an awake node; a node's volume is
+    // the held elements' shares plus the evaluated ones'. Everything awake: the order is 0..nt-1
+    // and the held shares 0, the same sums in the same order as the plain pass.
+    const int na = s.tet_awake_count;
+    const int* list = s.tet_order.data();
+    for (int a = 0; a < nn; ++a) p[a] = s.tet_held_vol[a];
+    add_tet_node_volumes(te, s.x.data(), list, na, p);
+    tet_node_pressures(te, p);
+    tet_element_forces(te, s.x.data(), p, list, 0, na, 1.0, s.f.data());
+    return;
+  }
   const bool split = te.multirate() && pass != TetPass::All;
   if (!split) {
     node_volumes(te, s.x, p);
@@ -251,7 +289,7 @@ void add_tet_elastic_forces(const Model& m, State& s, TetPass pass, int substeps
     for (int a = 0; a < nn; ++a) p[a] = vs[a];
     add_node_volumes(te, s.x, 0, nf, p);
   }
-  for (int a = 0; a < nn; ++a) p[a] = te.node_kappa_explicit[a] * (p[a] * te.node_inv_vol0[a] - 1.0);  // pressure [Pa]
+  tet_node_pressures(te, p);
   const Vec3* x = s.x.data();
   Vec3* f = s.f.data();
   switch (pass) {
