@@ -5,9 +5,12 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/state/state.h"
+#include "engine/util/error.h"
 
 namespace ps::test {
 
@@ -32,6 +35,18 @@ inline std::string cube_yaml(double side_mm = 40, double spacing_mm = 10, bool i
 
 inline std::shared_ptr<const Model> compile_text(const std::string& yaml) {
   return compile_scenario(parse_scenario_text(yaml, "test.yaml"));
+}
+
+// The scenario text must be refused with an InputError naming `field` at a line (gtest failures
+// otherwise).
+inline void expect_refused_with_field(const std::string& yaml, const std::string& field) {
+  try {
+    compile_text(yaml);
+    ADD_FAILURE() << "accepted: " << field;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), field);
+    EXPECT_GT(e.line(), 0);
+  }
 }
 
 // Central-difference check of a force against an energy: over every stride-th particle of s,

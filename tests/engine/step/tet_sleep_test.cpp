@@ -143,15 +143,7 @@ TEST(TetSleep, ADamagedSavedElementListIsRefusedOnRestore) {
 }
 
 TEST(TetSleep, BadKeysAreRefusedWithTheirField) {
-  auto expect_field = [](const std::string& yaml, const std::string& field) {
-    try {
-      test::compile_text(yaml);
-      ADD_FAILURE() << "accepted: " << field;
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.field(), field);
-      EXPECT_GT(e.line(), 0);
-    }
-  };
+  const auto expect_field = test::expect_refused_with_field;
   expect_field(block_yaml(true, false, ", sleep_wake_m_s2: 0"), "solver.sleep_wake_m_s2");
   expect_field(block_yaml(true, false, ", sleep_wake_m_s2: fast"), "solver.sleep_wake_m_s2");
   expect_field(block_yaml(true, false, ", multirate: true"), "solver.sleep");
