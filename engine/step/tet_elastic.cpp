@@ -45,13 +45,20 @@ inline ElementKinematics kinematics(const TetElements& te, const std::vector<Vec
 }
 
 // adds the volume share V_t/4 of elements [begin, end) to their nodes' entries of vol
-void add_node_volumes(const TetElements& te, const std::vector<Vec3>& x, int begin, int end, double* vol) {
-  for (int t = begin; t < end; ++t) {
-    const int* v = &te.v[4 * t];
+// list: element indices (nullptr: [begin, end) themselves), entries [begin, end) of it
+void add_volume_shares(const TetElements& te, const Vec3* x, const int* list, int begin, int end, double* vol) {
+  const int* vv = te.v.data();
+  const int* slot = te.node_slot.data();
+  for (int k = begin; k < end; ++k) {
+    const int* v = vv + 4 * (list ? list[k] : k);
     const Vec3 x0 = x[v[0]];
     const double quarter = (x[v[1]] - x0).dot((x[v[2]] - x0).cross(x[v[3]] - x0)) / 24.0;  // V_t / 4
-    for (int i = 0; i < 4; ++i) vol[te.node_slot[v[i]]] += quarter;
+    for (int i = 0; i < 4; ++i) vol[slot[v[i]]] += quarter;
   }
+}
+
+void add_node_volumes(const TetElements& te, const std::vector<Vec3>& x, int begin, int end, double* vol) {
+  add_volume_shares(te, x.data(), nullptr, begin, end, vol);
 }
 
 // current volume share V_n of every tet node into vol (indexed like te.nodes)
@@ -218,7 +225,7 @@ void slow_force_now(const Model& m, State& s) {
   add_node_volumes(te, s.x, nf, nt, vs);
   for (int a = 0; a < nn; ++a) p[a] = vs[a];
   add_node_volumes(te, s.x, 0, nf, p);
-  for (int a = 0; a < nn; ++a) p[a] = te.node_kappa_explicit[a] * (p[a] * te.node_inv_vol0[a] - 1.0);
+  tet_node_pressures(te, p);
   for (Vec3& f : s.tet_slow_f) f.setZero();
   element_forces(te, s.x.data(), p, nf, nt, 1.0, s.tet_slow_f.data());
   s.tet_slow_f_valid = 1;
@@ -227,14 +234,7 @@ void slow_force_now(const Model& m, State& s) {
 }  // namespace
 
 void add_tet_node_volumes(const TetElements& te, const Vec3* x, const int* list, int count, double* vol) {
-  const int* vv = te.v.data();
-  const int* slot = te.node_slot.data();
-  for (int k = 0; k < count; ++k) {
-    const int* v = vv + 4 * list[k];
-    const Vec3 x0 = x[v[0]];
-    const double quarter = (x[v[1]] - x0).dot((x[v[2]] - x0).cross(x[v[3]] - x0)) / 24.0;  // V_t / 4
-    for (int i = 0; i < 4; ++i) vol[slot[v[i]]] += quarter;
-  }
+  add_volume_shares(te, x, list, 0, count, vol);
 }
 
 void tet_node_pressures(const TetElements& te, double* vol) {
