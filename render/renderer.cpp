@@ -91,10 +91,14 @@ void main() {
   vec3 key = normalize(vec3(0.35, 0.45, 0.82));
   float nv = max(dot(n, v), 0.0);
   float diff = 0.55 * nv + 0.35 * max(dot(n, key), 0.0);
-  float spec = 0.22 * pow(max(dot(n, normalize(key + v)), 0.0), 32.0);
+  // powers by multiplication: pow() costs a software rasteriser exp2(log2()) per pixel
+  float s = max(dot(n, normalize(key + v)), 0.0);
+  s *= s; s *= s; s *= s; s *= s; s *= s;  // s^32
+  float spec = 0.22 * s;
   vec3 rgb = vColour.rgb * (0.28 + diff) + vec3(spec);
   float a = vColour.a;
-  if (a < 0.999) a = clamp(a + uRim * (1.0 - a) * pow(1.0 - nv, 3.0), 0.0, 1.0);
+  float e = 1.0 - nv;
+  if (a < 0.999) a = clamp(a + uRim * (1.0 - a) * e * e * e, 0.0, 1.0);
   oColour = vec4(rgb, a);
 }
 )";

@@ -25,6 +25,13 @@ void parse_size(const std::string& s, int& w, int& h) {
   h = static_cast<int>(b);
 }
 
+render::Antialias parse_antialias_option(const std::string& s) {
+  render::Antialias a{};
+  if (!render::parse_antialias(s, a))
+    throw InputError("", 0, "--aa", "unknown antialiasing '" + s + "' (known: auto, msaa, fxaa, none)");
+  return a;
+}
+
 const char* us_view_name(us::PlaneKind k) { return k == us::PlaneKind::Transverse ? "us_transverse" : "us_sagittal"; }
 
 std::vector<render::View> parse_views(const std::string& s, std::vector<us::PlaneKind>* us) {

@@ -6,6 +6,7 @@
 
 #include "engine/ultrasound/imager.h"
 #include "render/camera.h"
+#include "render/post_antialias.h"
 
 namespace ps::frames {
 
@@ -19,7 +20,9 @@ struct FrameOptions {
   std::vector<us::PlaneKind> us_views;       // simulated TRUS planes (us_transverse, us_sagittal)
   int us_size = 512;                         // ultrasound frames are square [px]
   bool force = false;                        // allow a non-empty out_dir (our files replaced)
-  int samples = 4;                           // multisampling
+  // auto: 4x multisampling on a hardware GL; on a software rasteriser one sample per pixel and
+  // FXAA on the encoder thread, which halves the render thread's share (render/post_antialias.h)
+  render::Antialias antialias = render::Antialias::Auto;
   bool displacement = false;                 // colour by displacement [mm]
   double displacement_max_mm = 5.0;
   bool progress = true;                      // progress bar on stderr
@@ -32,6 +35,8 @@ void parse_size(const std::string& s, int& width, int& height);
 // names throw InputError (field --views) listing the known ones. At least one view.
 std::vector<render::View> parse_views(const std::string& s, std::vector<us::PlaneKind>* us = nullptr);
 const char* us_view_name(us::PlaneKind k);  // "us_transverse" / "us_sagittal"
+// "auto", "msaa", "fxaa" or "none". Throws InputError (field --aa) listing them.
+render::Antialias parse_antialias_option(const std::string& s);
 // Refuses a non-empty folder unless `force`, creates it, checks it is writable (a probe file
 // written and removed). With force, removes the files a previous replay wrote there (and only
 // those). Throws InputError (field --out).

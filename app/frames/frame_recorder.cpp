@@ -43,6 +43,7 @@ struct FrameRecorder::Impl {
   us::ProbeView probe_view;                                // last seen in a snapshot
   render::HeadlessContext ctx;     // first: no GL, nothing written
   bool folder_ready;               // then the folder (refused when not empty or not writable)
+  render::Antialias aa;            // opt.antialias resolved for this GL
   render::Renderer renderer;
   render::OffscreenTarget target;
   render::OrbitCamera orbit;
@@ -61,8 +62,9 @@ struct FrameRecorder::Impl {
   Impl(const Model& m, const std::string& urethra, FrameOptions o, const UltrasoundInput* us)
       : opt(checked(std::move(o), us)),
         folder_ready((prepare_output_dir(opt.out_dir, opt.force), true)),
+        aa(render::resolve_antialias(opt.antialias, ctx.renderer())),
         renderer(render::make_render_scene(m, urethra)),
-        target(opt.width, opt.height, opt.samples),
+        target(opt.width, opt.height, aa == render::Antialias::Msaa ? 4 : 0),
         queue(6) {
     orbit.target = renderer.scene().focus;
     orbit.distance = renderer.scene().extent * 3.2;
@@ -139,7 +141,7 @@ void FrameRecorder::add_frame(const Snapshot& snap) {
     char name[64];
     std::snprintf(name, sizeof name, "frame_%06d.png", im.frame);
     const fs::path path = fs::path(im.opt.out_dir) / render::view_name(view) / name;
-    im.queue.push(path.string(), im.opt.width, im.opt.height, std::move(rgb));
+    im.queue.push(path.string(), im.opt.width, im.opt.height, std::move(rgb), 3, im.aa == render::Antialias::Fxaa);
   }
   if (!im.imagers.empty()) {
     // the probe as the snapshot shows it; a snapshot without one keeps the last pose seen
@@ -218,7 +220,7 @@ FrameSummary FrameRecorder::finish(const std::string& extra_json) {
   j["width_px"] = im.opt.width;
   j["height_px"] = im.opt.height;
   j["fps"] = im.opt.fps;
-  j["samples"] = im.opt.samples;
+  j["antialias"] = render::antialias_name(im.aa);
   j["events"] = std::count(im.events.begin(), im.events.end(), '\n');
   j["gl_backend"] = s.backend;
   j["gl_renderer"] = s.gl_renderer;

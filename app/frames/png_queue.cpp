@@ -1,6 +1,7 @@
 #include "app/frames/png_queue.h"
 
 #include "engine/io/png_write.h"
+#include "render/post_antialias.h"
 
 namespace ps::frames {
 
@@ -25,11 +26,11 @@ std::vector<uint8_t> PngQueue::take_buffer() {
   return b;
 }
 
-void PngQueue::push(const std::string& path, int w, int h, std::vector<uint8_t>&& rgb, int channels) {
+void PngQueue::push(const std::string& path, int w, int h, std::vector<uint8_t>&& rgb, int channels, bool fxaa) {
   std::unique_lock<std::mutex> lk(mu_);
   cv_.wait(lk, [&] { return jobs_.size() < max_pending_ || error_; });
   if (error_) std::rethrow_exception(error_);
-  jobs_.push_back({path, w, h, channels, std::move(rgb)});
+  jobs_.push_back({path, w, h, channels, fxaa && channels == 3, std::move(rgb)});
   lk.unlock();
   cv_.notify_all();
 }
@@ -58,7 +59,13 @@ void PngQueue::run() {
     }
     std::exception_ptr err;
     try {
-      ps::write_png_atomic(job.path, job.w, job.h, job.channels, job.rgb.data());
+      const uint8_t* px = job.rgb.data();
+      if (job.fxaa) {
+        aa_out_.resize(job.rgb.size());
+        render::fxaa_rgb(job.rgb.data(), job.w, job.h, aa_out_.data(), aa_luma_);
+        px = aa_out_.data();
+      }
+      ps::write_png_atomic(job.path, job.w, job.h, job.channels, px);
     } catch (...) {
       err = std::current_exception();
     }

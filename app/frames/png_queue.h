@@ -21,9 +21,11 @@ class PngQueue {
   ~PngQueue();  // finishes the queue (errors dropped: call finish() to see them)
   // A buffer for the next frame (recycled from written frames when possible).
   std::vector<uint8_t> take_buffer();
-  // Queues one image (rows top-down; 3 channels = RGB, 1 = grayscale, e.g. ultrasound).
+  // Queues one image (rows top-down; 3 channels = RGB, 1 = grayscale, e.g. ultrasound). With
+  // `fxaa` (RGB only) the writer antialiases it before encoding (render::fxaa_rgb).
   // Rethrows a write error of an earlier frame.
-  void push(const std::string& path, int width, int height, std::vector<uint8_t>&& rgb, int channels = 3);
+  void push(const std::string& path, int width, int height, std::vector<uint8_t>&& rgb, int channels = 3,
+            bool fxaa = false);
   // Waits for every queued frame; rethrows the first write error.
   void finish();
   int written() const;
@@ -32,6 +34,7 @@ class PngQueue {
   struct Job {
     std::string path;
     int w = 0, h = 0, channels = 3;
+    bool fxaa = false;
     std::vector<uint8_t> rgb;
   };
   void run();
@@ -44,6 +47,8 @@ class PngQueue {
   bool busy_ = false;
   int written_ = 0;
   std::exception_ptr error_;
+  std::vector<uint8_t> aa_out_;   // writer thread only: the antialiased image
+  std::vector<uint8_t> aa_luma_;   // and its scratch
   std::thread thread_;
 };
 

@@ -77,7 +77,7 @@ ReplayFramesResult replay_frames(const Scene& scene, LockstepRunner& run, int64_
 namespace {
 
 struct Args {
-  std::string out, size = "1280x720", views = "3d";
+  std::string out, size = "1280x720", views = "3d", aa = "auto";
   double fps = 30.0;
   bool force = false, displacement = false;
 } g_args;
@@ -89,6 +89,9 @@ void add_options(CLI::App& sub) {
   sub.add_option("--views", g_args.views, "comma-separated: 3d, anterior, lateral, probe, needle, us_transverse, us_sagittal (simulated TRUS, 512x512 grayscale)")->capture_default_str();
   sub.add_flag("--force", g_args.force, "replace a previous replay in a non-empty --out folder");
   sub.add_flag("--displacement", g_args.displacement, "colour the organs by displacement [mm]");
+  sub.add_option("--aa", g_args.aa,
+                 "antialiasing: auto (msaa on a hardware GL, fxaa on a software rasteriser), msaa (4x), fxaa, none")
+      ->capture_default_str();
 }
 
 bool wanted() { return !g_args.out.empty(); }
@@ -101,6 +104,7 @@ int run(app::ReplaySession& s) {
   opt.out_dir = g_args.out;
   opt.force = g_args.force;
   opt.displacement = g_args.displacement;
+  opt.antialias = parse_antialias_option(g_args.aa);
   const ReplayFramesResult r = replay_frames(s.scene, s.runner, s.end_tick, opt);
   std::printf("frames: %s/{%s}/frame_*.png (%d per view, %dx%d), contact sheet %s/contact_sheet.png, events %s/events.log\n",
               opt.out_dir.c_str(), g_args.views.c_str(), r.summary.frames, opt.width, opt.height, opt.out_dir.c_str(), opt.out_dir.c_str());

@@ -2,8 +2,11 @@
 // the same command twice gives byte-identical frames; bad options are refused with exit 2 and
 // nothing written. The simulated ultrasound views write grayscale frames, deterministic too.
 #include <gtest/gtest.h>
+
+#include <map>
 #include <stb_image.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -53,7 +56,11 @@ TEST(ReplayFrames, WritesFramesLogSummaryAndSheetIdenticallyTwice) {
   EXPECT_FALSE(fs::exists(fs::path(a) / "3d" / "frame_000003.png"));
   for (const char* f : {"events.log", "summary.json", "force_depth.csv", "contact_sheet.png"})
     EXPECT_TRUE(fs::exists(fs::path(a) / f)) << f;
-  EXPECT_NE(bytes(fs::path(a) / "summary.json").find("\"frames_per_view\": 3"), std::string::npos);
+  const std::string summary = bytes(fs::path(a) / "summary.json");
+  EXPECT_NE(summary.find("\"frames_per_view\": 3"), std::string::npos);
+  // --aa auto: FXAA on the encoder thread on a software rasteriser, 4x multisampling otherwise
+  const bool software = summary.find("llvmpipe") != std::string::npos || summary.find("softpipe") != std::string::npos;
+  EXPECT_NE(summary.find(software ? "\"antialias\": \"fxaa\"" : "\"antialias\": \"msaa\""), std::string::npos) << summary;
   // a second run into the same folder is refused without --force, accepted with it
   EXPECT_EQ(replay("--out " + a + opts), 2);
   EXPECT_EQ(replay("--out " + a + opts + " --force"), 0);
@@ -147,6 +154,87 @@ TEST(ReplayFrames, OsmesaFallbackRendersTheSameSceneAsEgl) {
   fs::remove_all(o);
 }
 
+// --aa: each mode renders the same scene; FXAA changes only pixels on edges (a few per cent of
+// the frame) and brings the frame closer to a 16x supersampled one (the same scene drawn at 4x
+// the size without antialiasing, box-filtered down), outside the text overlay.
+TEST(ReplayFrames, AntialiasModesRenderTheSameSceneAndFxaaApproachesSupersampling) {
+  std::map<std::string, std::vector<unsigned char>> img;
+  int w = 0, h = 0, n = 0;
+  for (const char* mode : {"none", "fxaa", "msaa", "reference"}) {
+    const std::string d = tmp(std::string("aa_") + mode);
+    fs::remove_all(d);
+    const bool ref = std::string(mode) == "reference";
+    ASSERT_EQ(replay("--out " + d + (ref ? " --size 1280x720" : " --size 320x180") + " --fps 100 --views 3d --aa " +
+                     (ref ? "none" : mode)),
+              0)
+        << mode;
+    if (ref) {
+      int rw = 0, rh = 0;
+      unsigned char* p = stbi_load((fs::path(d) / "3d" / "frame_000002.png").string().c_str(), &rw, &rh, &n, 3);
+      ASSERT_NE(p, nullptr);
+      ASSERT_EQ(rw, 4 * w);
+      std::vector<unsigned char>& r = img[mode];
+      r.assign(3L * w * h, 0);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          for (int k = 0; k < 3; ++k) {
+            int sum = 0;
+            for (int j = 0; j < 4; ++j)
+              for (int i = 0; i < 4; ++i) sum += p[3L * ((4 * y + j) * rw + 4 * x + i) + k];
+            r[3L * (y * w + x) + k] = static_cast<unsigned char>((sum + 8) / 16);
+          }
+      stbi_image_free(p);
+      fs::remove_all(d);
+      continue;
+    }
+    EXPECT_NE(bytes(fs::path(d) / "summary.json").find(std::string("\"antialias\": \"") + mode + "\""), std::string::npos);
+    unsigned char* p = stbi_load((fs::path(d) / "3d" / "frame_000002.png").string().c_str(), &w, &h, &n, 3);
+    ASSERT_NE(p, nullptr) << mode;
+    img[mode].assign(p, p + 3L * w * h);
+    stbi_image_free(p);
+    fs::remove_all(d);
+  }
+  const long px = static_cast<long>(w) * h;
+  auto changed = [&](const std::string& a, const std::string& b) {
+    long c = 0;
+    for (long i = 0; i < px; ++i)
+      c += img[a][3 * i] != img[b][3 * i] || img[a][3 * i + 1] != img[b][3 * i + 1] || img[a][3 * i + 2] != img[b][3 * i + 2];
+    return c;
+  };
+  auto mean_abs = [&](const std::string& a, const std::string& b) {
+    double s = 0.0;
+    for (long i = 0; i < 3 * px; ++i) s += std::abs(int(img[a][i]) - int(img[b][i]));
+    return s / (3.0 * px);
+  };
+  const long fx = changed("none", "fxaa");
+  std::printf("fxaa changed %ld of %ld px; mean |none - msaa| %.3f, |fxaa - msaa| %.3f\n", fx, px,
+              mean_abs("none", "msaa"), mean_abs("fxaa", "msaa"));
+  EXPECT_GT(fx, px / 200);  // it ran: the organ outlines are edges
+  EXPECT_LT(fx, px / 10);   // and only there
+  // the same scene in every mode: the frames differ by edge noise only
+  EXPECT_LT(mean_abs("none", "msaa"), 2.0);
+  EXPECT_LT(mean_abs("fxaa", "msaa"), 2.0);
+  // RMS against the supersampled frame, the text overlay left out (its font is drawn at another
+  // scale at 1280x720): top bar and read-out (y < 32), legend (x < 80, y > h - 70)
+  auto rms_ref = [&](const std::string& a) {
+    double s = 0.0;
+    long c = 0;
+    for (int y = 32; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (x < 80 && y > h - 70) continue;
+        for (int k = 0; k < 3; ++k) {
+          const double d = double(img[a][3L * (y * w + x) + k]) - img["reference"][3L * (y * w + x) + k];
+          s += d * d;
+          ++c;
+        }
+      }
+    return std::sqrt(s / c);
+  };
+  std::printf("RMS against 16x supersampling: none %.2f, fxaa %.2f, msaa %.2f grey levels\n", rms_ref("none"),
+              rms_ref("fxaa"), rms_ref("msaa"));
+  EXPECT_LT(rms_ref("fxaa"), 0.9 * rms_ref("none"));
+}
+
 TEST(ReplayFrames, BadOptionsExit2AndWriteNothing) {
   const std::string d = tmp("bad");
   fs::remove_all(d);
@@ -156,6 +244,7 @@ TEST(ReplayFrames, BadOptionsExit2AndWriteNothing) {
   EXPECT_EQ(replay("--out " + d + " --fps 0"), 2);
   EXPECT_EQ(replay("--out " + d + " --views us_coronal"), 2);
   EXPECT_EQ(replay("--out " + d + " --views us_sagittal,us_sagittal"), 2);
+  EXPECT_EQ(replay("--out " + d + " --aa smaa"), 2);
   EXPECT_FALSE(fs::exists(d));
   // no EGL and no OSMesa: one message, exit 2, the folder not even created
   const std::string cmd = std::string("cd " PROSTATESIM_SOURCE_DIR " && PROSTATESIM_EGL_LIB=/nonexistent PROSTATESIM_OSMESA_LIB=/nonexistent " PROSTATESIM_BINARY
