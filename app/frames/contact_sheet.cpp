@@ -54,7 +54,9 @@ void write_contact_sheet(const std::string& path, const ContactSheetInput& in) {
   ch.x.label = "insertion depth [mm]";
   ch.y.label = "axial force on the needle [N]";
   plot::Series s;
-  s.label = "force";
+  // the curve is each tick's mean; an event marker is the peak force up to that event, which
+  // during a gun stroke (~1 mm per tick) stands well above the tick's mean
+  s.label = "force (tick mean)";
   s.x = in.depth_mm;
   s.y = in.force_n;
   s.color = plot::palette(0);
@@ -66,7 +68,7 @@ void write_contact_sheet(const std::string& path, const ContactSheetInput& in) {
   ch.series.push_back(s);
   if (!in.marks.empty()) {
     plot::Series m;
-    m.label = "puncture / bone / core";
+    m.label = "puncture / bone / core (peak force)";
     m.line = false;
     m.marker = plot::Marker::Circle;
     m.color = plot::palette(3);
