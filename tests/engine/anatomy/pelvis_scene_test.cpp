@@ -17,6 +17,7 @@
 #include "engine/tools/needle.h"
 #include "engine/tools/probe.h"
 #include "engine/util/error.h"
+#include "tests/time_budget.h"
 
 namespace ps {
 namespace {
@@ -52,7 +53,7 @@ TEST(BiopsyScene, CompilesWithinTwoSecondsIntoTheParticleBudget) {
   const double cpu0 = cpu_seconds();
   const auto model = compile_scenario(parse_scenario_file(config("biopsy.yaml")), &rep);
   const Model& m = *model;
-  EXPECT_LE(cpu_seconds() - cpu0, 2.0);
+  EXPECT_LE(cpu_seconds() - cpu0, ps::test::time_budget(2.0));
   EXPECT_GE(m.particle_count(), 1000);
   EXPECT_LE(m.particle_count(), 5000);
   for (const char* c : {"prostate", "bladder", "rectum", "pubic_arch", "fat"}) EXPECT_GT(comp(m, c).particle_count, 50) << c;
@@ -213,7 +214,7 @@ TEST(ScenarioLibrary, BrachytherapyAndBladderFillingCompile) {
     const double cpu0 = cpu_seconds();
     const ScenarioSpec spec = parse_scenario_file(config(f));
     const auto m = compile_scenario(spec, &rep);
-    EXPECT_LE(cpu_seconds() - cpu0, 2.0) << f;
+    EXPECT_LE(cpu_seconds() - cpu0, ps::test::time_budget(2.0)) << f;
     EXPECT_TRUE(rep.warnings.empty()) << f << ": " << rep.warnings.front();
     EXPECT_EQ(m->find_component("pubic_arch") >= 0, true) << f;
     EXPECT_DOUBLE_EQ(m->gravity.y(), -9.81) << f;   // supine / lithotomy

@@ -17,6 +17,7 @@
 
 #include "engine/mesh/mesh_import.h"
 #include "engine/util/error.h"
+#include "tests/time_budget.h"
 
 namespace ps {
 namespace {
@@ -272,7 +273,7 @@ TEST(MeshFuzz, CorruptInputGivesInputErrorOrValidMesh) {
   std::printf("[ fuzz     ] %zu inputs: %d InputError, %d valid, %.2f s\n", cases.size(), errors, valid, seconds);
   EXPECT_GE(cases.size(), 200u);
   EXPECT_GT(errors, 150);
-  EXPECT_LT(seconds, 20.0);
+  EXPECT_LT(seconds, ps::test::time_budget(20.0));
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include "engine/realtime/script.h"
 #include "engine/realtime/state_file.h"
 #include "engine/util/error.h"
+#include "tests/time_budget.h"
 
 namespace ps {
 namespace {
@@ -65,7 +66,7 @@ void shard(const std::vector<std::string>& seeds, uint64_t seed, int count, cons
     }
   }
   const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  EXPECT_LT(sec, 60.0);
+  EXPECT_LT(sec, ps::test::time_budget(60.0));
   EXPECT_GT(refused, count / 10);
 }
 
