@@ -13,6 +13,7 @@
 #include "engine/scenario/parse_yaml.h"
 #include "engine/util/error.h"
 #include "tests/engine/test_scenes.h"
+#include "tests/time_budget.h"
 
 namespace ps {
 namespace {
@@ -74,7 +75,7 @@ void fuzz_shard(uint64_t seed, int count) {
     }
   }
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  EXPECT_LT(s, 60.0) << "parsing " << count << " inputs took " << s << " s (a hang?)";
+  EXPECT_LT(s, ps::test::time_budget(60.0)) << "parsing " << count << " inputs took " << s << " s (a hang?)";
   EXPECT_GT(refused, count / 10);  // the mutations do reach the error paths
   ::testing::Test::RecordProperty("parsed", parsed);
 }
