@@ -146,6 +146,10 @@ TEST(ScenarioDocument, InvalidEditsAreRefusedNamingTheFieldAndChangeNothing) {
     ASSERT_TRUE(r.issue.has_value()) << c.path;
     EXPECT_EQ(r.issue->field, c.field) << r.issue->message;
     EXPECT_NE(r.issue->message.find(c.words), std::string::npos) << r.issue->message;
+    // the message is the reason only: file, line and field travel beside it (the editor prints
+    // them in front, once)
+    EXPECT_EQ(r.issue->message.find("doc.yaml"), std::string::npos) << r.issue->message;
+    EXPECT_EQ(r.issue->message.find("'" + r.issue->field + "'"), std::string::npos) << r.issue->message;
     EXPECT_EQ(d.text(), kScene) << "a refused edit leaves the document unchanged";
     EXPECT_TRUE(d.valid());
   }
