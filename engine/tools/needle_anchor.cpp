@@ -39,11 +39,21 @@ void AffineAnchor::build(const Vec3& X, const int* ids, int n, const std::vector
         if (std::abs(bt) > kBetaZeroRelative * size) beta[nbeta++] = AnchorTriplet{idx[a], idx[b], idx[c], bt};
         ++m;
       }
+  // Extrapolating coordinates (X beside its particles, not among them: the nodes near a hole in a
+  // wall, held by 3-4 wall particles on one side) had weights up to 6.3 and -2.8; the spring's
+  // reaction was multiplied on single light particles and the wall chattered at 1-5 m/s
+  // (docs/robustness.md, "The rectal wall at the hole"). Such an anchor takes the translation form.
+  bool extrapolates = false;
   if (m > 0) {
-    rotational = true;
     const double inv_m = 1.0 / m;
-    for (int a = 0; a < n; ++a) w[a] *= inv_m;
+    for (int a = 0; a < n; ++a) {
+      w[a] *= inv_m;
+      extrapolates |= w[a] < -kAnchorWeightMargin || w[a] > 1.0 + kAnchorWeightMargin;
+    }
     for (int t = 0; t < nbeta; ++t) beta[t].b *= inv_m;
+  }
+  if (m > 0 && !extrapolates) {
+    rotational = true;
   } else {
     // translation-only fallback: normalised inverse distances (a particle on X takes it all)
     rotational = false;

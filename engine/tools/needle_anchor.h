@@ -11,7 +11,9 @@
 // Fallback: with fewer than 3 non-collinear neighbours (thin tissue, zone edges, one or two
 // particles in a zone) no triplet is valid; the anchor then follows the tissue by translation
 // only: w_a are normalised inverse distances and offset = X - sum w_a x_a (for one particle
-// this is a rigid attachment to it). `rotational` says which form is in use.
+// this is a rigid attachment to it). The same fallback when the mean weights extrapolate (leave
+// [-kAnchorWeightMargin, 1 + kAnchorWeightMargin]: X beside its particles rather than among
+// them). `rotational` says which form is in use.
 // `offset` also carries the re-anchoring continuity: rebuilding on other particles keeps P*
 // where it was, so a virtual force does not jump when zone membership changes.
 #pragma once
@@ -24,6 +26,10 @@ namespace ps {
 
 inline constexpr int kAnchorMaxNeighbours = 6;
 inline constexpr int kAnchorMaxTriplets = 20;   // C(6, 3)
+// An anchor whose mean weights leave [-margin, 1 + margin] extrapolates (X outside the particles
+// that hold it: one side of a hole in a wall) and takes the translation-only form instead
+// (needle_anchor.cpp).
+inline constexpr double kAnchorWeightMargin = 0.5;
 
 struct AnchorTriplet {
   int i, j, k;                     // particle indices

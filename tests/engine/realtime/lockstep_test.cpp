@@ -75,10 +75,13 @@ TEST(Lockstep, FixedExpectedHashOfAShortScriptedRun) {
   // (engine/tools/tool_reports.h) and the filling's schedule a fixed number of slots: the tools'
   // saved bytes changed, the physics did not (hash_state of this run with clamped fill and probe
   // commands and 40 more fill commands added: f291ac70f9ae0efc at 300 ticks before and after).
-  constexpr uint64_t kExpectedHash = 0x0ddceb6e39584637ull;
+  // 0x0ddceb6e39584637 (state 0x6ff818835539f17b) until a needle node's virtual particle whose
+  // discrete coordinates extrapolate (weights outside [-0.5, 1.5]) took the translation form
+  // (engine/tools/needle_anchor.cpp; docs/robustness.md, "The rectal wall at the hole").
+  constexpr uint64_t kExpectedHash = 0xb8bcc991e935317full;
   // State alone (positions, velocities, every State field; no tool state): changes only when the
   // physics does, so a commit that changes kExpectedHash but not this one changed tool bookkeeping
-  constexpr uint64_t kExpectedStateHash = 0x6ff818835539f17bull;
+  constexpr uint64_t kExpectedStateHash = 0x004f65ea7319449eull;
   const ScriptRun r = run_script(300);
   EXPECT_EQ(hex16(r.hash), hex16(kExpectedHash)) << "results changed: if intended, update kExpectedHash and say so in the commit";
   EXPECT_EQ(hex16(r.state_hash), hex16(kExpectedStateHash)) << "physics changed: if intended, update kExpectedStateHash and say so in the commit";

@@ -52,6 +52,34 @@ TEST(AffineAnchor, FewerThanThreeNonCollinearParticlesFallBackToTranslation) {
   }
 }
 
+TEST(AffineAnchor, APointOutsideItsParticlesTakesTheTranslationFormWithBoundedWeights) {
+  // A node beside the hole in a wall: three wall particles (a 3 mm triangle in the plane z = 0)
+  // all on one side of it, 5 mm away. Their discrete coordinates extrapolate (weights of
+  // several units of either sign), and the spring's reaction would be amplified on one light
+  // particle; the anchor takes the translation form instead: weights in [0, 1] summing to 1.
+  const std::vector<Vec3> x = {Vec3(5e-3, 0, 0), Vec3(8e-3, 0, 0), Vec3(6.5e-3, 2.6e-3, 0)};
+  const int ids[] = {0, 1, 2};
+  const Vec3 X(0, -1e-3, 1e-3);
+  AffineAnchor a;
+  a.build(X, ids, 3, x, X);
+  ASSERT_TRUE(a.valid());
+  EXPECT_FALSE(a.rotational);
+  double wsum = 0;
+  for (int i = 0; i < a.count; ++i) {
+    EXPECT_GE(a.w[i], 0.0);
+    EXPECT_LE(a.w[i], 1.0);
+    wsum += a.w[i];
+  }
+  EXPECT_NEAR(wsum, 1.0, 1e-12);
+  EXPECT_LT((a.evaluate(x) - X).norm(), 1e-15);
+  // the same three particles around a point inside their triangle keep the full coordinates
+  AffineAnchor b;
+  const Vec3 Y(6.5e-3, 0.9e-3, 0.4e-3);
+  b.build(Y, ids, 3, x, Y);
+  EXPECT_TRUE(b.rotational);
+  for (int i = 0; i < b.count; ++i) EXPECT_LE(std::abs(b.w[i] - 1.0 / 3.0), 1.0 / 3.0 + kAnchorWeightMargin);
+}
+
 TEST(AffineAnchor, RebuildingKeepsTheAttractorAndTheReactionConservesMomentum) {
   std::vector<Vec3> x = cloud();
   const int ids[] = {0, 1, 2, 3, 4, 5};
