@@ -405,18 +405,6 @@ struct Compiled {
   std::optional<DocumentIssue> issue;
 };
 
-// An InputError's message without the "file:line: 'field': " it puts in front: a DocumentIssue
-// carries line and field beside the message, and the editor prints them once (it had printed
-// "biopsy.yaml:27: 'materials.prostate.young_kpa': biopsy.yaml:27: 'materials...': out of range").
-std::string message_of(const InputError& e) {
-  std::string prefix = e.file().empty() ? std::string("<input>") : e.file();
-  if (e.line() > 0) prefix += ":" + std::to_string(e.line());
-  prefix += ": ";
-  if (!e.field().empty()) prefix += "'" + e.field() + "': ";
-  const std::string w = e.what();
-  return w.rfind(prefix, 0) == 0 ? w.substr(prefix.size()) : w;
-}
-
 Compiled compile_text(const std::string& text, const std::string& path) {
   Compiled c;
   try {
@@ -427,7 +415,7 @@ Compiled compile_text(const std::string& text, const std::string& path) {
     make_filling_tool(*c.spec, *c.model);          // the filling's (a volume-constrained organ, volumes in range)
     c.issue = check_scenario_semantics(*c.spec, *c.model);
   } catch (const InputError& e) {
-    c.issue = DocumentIssue{e.field(), e.line(), message_of(e)};
+    c.issue = DocumentIssue{e.field(), e.line(), e.message()};
   } catch (const CompileError& e) {
     c.issue = DocumentIssue{"", 0, e.what()};
   } catch (const std::exception& e) {
@@ -456,7 +444,7 @@ EditResult ScenarioDocument::set(const std::string& key_path, const std::string&
   try {
     span = locate_value(text_, key_path);
   } catch (const InputError& e) {
-    r.issue = DocumentIssue{e.field().empty() ? key_path : e.field(), e.line(), message_of(e)};
+    r.issue = DocumentIssue{e.field().empty() ? key_path : e.field(), e.line(), e.message()};
     return r;
   }
   std::string next = text_;
@@ -594,7 +582,7 @@ EditResult ScenarioDocument::add_item(const std::string& list_path, const std::s
     next = text_with_item_added(text_, list_path, yaml_item);
   } catch (const InputError& e) {
     EditResult r;
-    r.issue = DocumentIssue{e.field().empty() ? list_path : e.field(), e.line(), message_of(e)};
+    r.issue = DocumentIssue{e.field().empty() ? list_path : e.field(), e.line(), e.message()};
     return r;
   }
   return accept(std::move(next), list_path);
@@ -606,7 +594,7 @@ EditResult ScenarioDocument::remove_item(const std::string& item_path) {
     next = text_with_item_removed(text_, item_path);
   } catch (const InputError& e) {
     EditResult r;
-    r.issue = DocumentIssue{e.field().empty() ? item_path : e.field(), e.line(), message_of(e)};
+    r.issue = DocumentIssue{e.field().empty() ? item_path : e.field(), e.line(), e.message()};
     return r;
   }
   return accept(std::move(next), item_path);

@@ -10,10 +10,13 @@ class InputError : public std::runtime_error {
  public:
   InputError(std::string file, int line, std::string field, const std::string& message)
       : std::runtime_error(format(file, line, field, message)),
-        file_(std::move(file)), line_(line), field_(std::move(field)) {}
+        file_(std::move(file)), line_(line), field_(std::move(field)), message_(message) {}
   const std::string& file() const { return file_; }
   int line() const { return line_; }
   const std::string& field() const { return field_; }
+  // the reason alone, without the "file:line: 'field': " that what() puts in front (for callers
+  // that carry the location beside it, as the scenario editor does)
+  const std::string& message() const { return message_; }
 
  private:
   static std::string format(const std::string& file, int line, const std::string& field,
@@ -27,6 +30,7 @@ class InputError : public std::runtime_error {
   std::string file_;
   int line_;
   std::string field_;
+  std::string message_;
 };
 
 // A model that cannot be compiled (degenerate neighbourhood, bad surface): names the particle/face.
