@@ -53,7 +53,8 @@
 //    friction-zone particles take the cutting force, so the force does not flicker with the
 //    lattice. Distances below the needle radius count as the needle radius.
 //  * friction (eq. 6) with stick/slip through virtual tissue particles: node j carries an anchor
-//    (AffineAnchor, discrete deformation coordinates of the node w.r.t. its zone particles); the
+//    (AffineAnchor, affine weights of the node w.r.t. its zone particles, linear in their
+//    positions: where the paper uses its discrete coordinates, needle_anchor.h says why); the
 //    virtual elastic force F_v = stick_stiffness (P* - X_j). Its axial part is the friction: while
 //    |F_v . d| < static threshold (static_ratio * F) the node sticks and F_v couples needle and
 //    tissue (redistributed to the anchor particles, paper §3.2); beyond it the node slips and the

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/model/discrete_coordinates.h"
+#include <Eigen/Eigenvalues>
 
 namespace ps {
 
@@ -13,51 +13,45 @@ void AffineAnchor::build(const Vec3& X, const int* ids, int n, const std::vector
   if (n <= 0) return;
   count = n;
   for (int a = 0; a < n; ++a) { idx[a] = ids[a]; w[a] = 0.0; }
-  double size = 0.0;
-  for (int a = 0; a < n; ++a) size = std::max(size, (x[idx[a]] - X).norm());
-  int m = 0;
-  // same triplet construction and rejection rule as the model's particles (compile time)
-  for (int a = 0; a < n; ++a)
-    for (int b = a + 1; b < n; ++b)
-      for (int c = b + 1; c < n; ++c) {
-        const Vec3& Ni = x[idx[a]];
-        const Vec3& Nj = x[idx[b]];
-        const Vec3& Nk = x[idx[c]];
-        const Vec3 eij = Nj - Ni, eik = Nk - Ni, ejk = Nk - Nj;
-        const Vec3 nrm = eij.cross(eik);
-        const double longest2 = std::max({eij.squaredNorm(), eik.squaredNorm(), ejk.squaredNorm()});
-        if (!(nrm.norm() >= kTripletQualityMin * longest2) || !(longest2 > 0.0)) continue;
-        const double area2 = nrm.squaredNorm();
-        const Vec3 nhat = nrm / std::sqrt(area2);
-        const double bt = (X - Ni).dot(nhat);
-        const Vec3 Q = X - bt * nhat;
-        const double aj = (Q - Ni).cross(eik).dot(nrm) / area2;
-        const double ak = eij.cross(Q - Ni).dot(nrm) / area2;
-        w[a] += 1.0 - aj - ak;
-        w[b] += aj;
-        w[c] += ak;
-        if (std::abs(bt) > kBetaZeroRelative * size) beta[nbeta++] = AnchorTriplet{idx[a], idx[b], idx[c], bt};
-        ++m;
-      }
-  // Extrapolating coordinates (X beside its particles, not among them: the nodes near a hole in a
-  // wall, held by 3-4 wall particles on one side) had weights up to 6.3 and -2.8; the spring's
-  // reaction was multiplied on single light particles and the wall chattered at 1-5 m/s
-  // (docs/robustness.md, "The rectal wall at the hole"). Such an anchor takes the translation form.
-  bool extrapolates = false;
-  if (m > 0) {
-    const double inv_m = 1.0 / m;
-    for (int a = 0; a < n; ++a) {
-      w[a] *= inv_m;
-      extrapolates |= w[a] < -kAnchorWeightMargin || w[a] > 1.0 + kAnchorWeightMargin;
-    }
-    for (int t = 0; t < nbeta; ++t) beta[t].b *= inv_m;
+  // Affine-reproducing weights of least norm: sum_a w_a = 1 and sum_a w_a x_a = X within the span
+  // of the particles. With c their centroid, d_a = x_a - c and S = sum_a d_a d_a^T:
+  //   w_a = 1/n + d_a^T S^+ (X - c).
+  // Linear in x, so a held force adds only k J^T J to the tissue's stiffness. (The paper's
+  // coordinates, alpha and beta n/|n| of each triplet, make P* nonlinear: a stuck node's friction
+  // force F then adds F . d2P*/dx2, a stiffness of either sign that the coupling bound cannot
+  // scale away; beside the biopsy track it reached -3.9 / h^2 per unit mass and drove a prostate
+  // particle to 7.8 m/s, docs/robustness.md.) Particles in a plane (a wall): S^+ drops the normal,
+  // X's in-plane position is reproduced and its distance from the plane is carried by `offset`.
+  Vec3 c = Vec3::Zero();
+  for (int a = 0; a < n; ++a) c += x[idx[a]];
+  c /= n;
+  Mat3 S = Mat3::Zero();
+  for (int a = 0; a < n; ++a) S += (x[idx[a]] - c) * (x[idx[a]] - c).transpose();
+  const Eigen::SelfAdjointEigenSolver<Mat3> es(S);
+  const double top = es.eigenvalues().maxCoeff();
+  Vec3 g = Vec3::Zero();  // S^+ (X - c)
+  int rank = 0;
+  for (int e = 0; e < 3; ++e) {
+    const double lam = es.eigenvalues()[e];
+    if (!(lam > kAnchorRankTolerance * top)) continue;
+    g += (es.eigenvectors().col(e).dot(X - c) / lam) * es.eigenvectors().col(e);
+    ++rank;
   }
-  if (m > 0 && !extrapolates) {
+  bool extrapolates = rank < 2;  // coincident or collinear particles: no frame to follow
+  for (int a = 0; a < n && !extrapolates; ++a) {
+    w[a] = 1.0 / n + (x[idx[a]] - c).dot(g);
+    extrapolates |= w[a] < -kAnchorWeightMargin || w[a] > 1.0 + kAnchorWeightMargin;
+  }
+  // Extrapolating weights (X beside its particles, not among them: the nodes near a hole in a
+  // wall, held by 3-4 wall particles on one side) reached 6.3 and -2.8 with the paper's
+  // coordinates; the spring's reaction was multiplied on single light particles and the wall
+  // chattered at 1-5 m/s (docs/robustness.md, "The rectal wall at the hole"). Such an anchor, and
+  // one without a frame, takes the translation form.
+  if (!extrapolates) {
     rotational = true;
   } else {
     // translation-only fallback: normalised inverse distances (a particle on X takes it all)
     rotational = false;
-    nbeta = 0;
     double sum = 0.0;
     int on_point = -1;
     for (int a = 0; a < n; ++a) {
@@ -75,31 +69,11 @@ void AffineAnchor::build(const Vec3& X, const int* ids, int n, const std::vector
 Vec3 AffineAnchor::evaluate(const std::vector<Vec3>& x) const {
   Vec3 p = offset;
   for (int a = 0; a < count; ++a) p += w[a] * x[idx[a]];
-  for (int t = 0; t < nbeta; ++t) {
-    const AnchorTriplet& bt = beta[t];
-    const Vec3 nrm = (x[bt.j] - x[bt.i]).cross(x[bt.k] - x[bt.i]);
-    const double len2 = nrm.squaredNorm();
-    if (len2 > 0.0) p += (bt.b / std::sqrt(len2)) * nrm;
-  }
   return p;
 }
 
-void AffineAnchor::add_reaction(std::vector<Vec3>& f, const std::vector<Vec3>& x, const Vec3& F) const {
+void AffineAnchor::add_reaction(std::vector<Vec3>& f, const std::vector<Vec3>&, const Vec3& F) const {
   for (int a = 0; a < count; ++a) f[idx[a]] -= w[a] * F;
-  // d(b n/|n|)/dx_q transposed applied to F (engine/step/shape_memory.cpp, same algebra)
-  for (int t = 0; t < nbeta; ++t) {
-    const AnchorTriplet& bt = beta[t];
-    const Vec3 ej = x[bt.j] - x[bt.i], ek = x[bt.k] - x[bt.i];
-    const Vec3 nrm = ej.cross(ek);
-    const double len2 = nrm.squaredNorm();
-    if (!(len2 > 0.0)) continue;
-    const double inv_len = 1.0 / std::sqrt(len2);
-    const Vec3 Fp = (bt.b * inv_len) * (F - (nrm.dot(F) / len2) * nrm);
-    const Vec3 fj = ek.cross(Fp), fk = ej.cross(Fp);
-    f[bt.j] -= fj;
-    f[bt.k] += fk;
-    f[bt.i] += fj - fk;
-  }
 }
 
 Vec3 AffineAnchor::velocity(const std::vector<Vec3>& v) const {

@@ -12,8 +12,8 @@
 // 0.78 g: K h^2 / m = 1.85 at h = 71 us (the limit of symplectic Euler is 4 for a lone spring,
 // less with the tissue's own stiffness), and the apex blew up 9 ms later.
 //
-// The bound: for anchor A with stiffness k_A, c_A,q >= |dP*/dx_q| (the affine weight plus, per
-// normal term b n/|n|, |b| |edge| / |n|) and C_A = sum_q c_A,q; block Gershgorin on M^-1 K gives
+// The bound: for anchor A with stiffness k_A, c_A,q = |dP*/dx_q| (its weight |w_q|: the anchor is
+// linear, needle_anchor.h) and C_A = sum_q c_A,q; block Gershgorin on M^-1 K gives
 //   lambda_max(M^-1 K_needles) <= max_q G_q,  G_q = sum_{A holding q} k_A c_A,q C_A / m_q.
 // Each anchor's stiffness is scaled by s_A = min(1, min_{q in A} kCouplingBudget / (G_q h^2)),
 // so that afterwards G_q h^2 <= kCouplingBudget (2, half the limit 4 of a lone spring under
@@ -60,27 +60,10 @@ void prepare_needle_anchors(NeedleTool::Needle& nd, const State& s) {
 
 namespace {
 
-// c_a >= |dP*/dx_a| of the anchor at positions x, for each of its particles; returns the sum.
-double anchor_jacobian_bound(const AffineAnchor& an, const std::vector<Vec3>& x, double* c) {
-  for (int a = 0; a < an.count; ++a) c[a] = std::abs(an.w[a]);
-  auto slot = [&](int p) {
-    for (int a = 0; a < an.count; ++a)
-      if (an.idx[a] == p) return a;
-    return 0;  // triplets are built from the anchor's own particles
-  };
-  for (int t = 0; t < an.nbeta; ++t) {
-    const AnchorTriplet& bt = an.beta[t];
-    const Vec3 ej = x[bt.j] - x[bt.i], ek = x[bt.k] - x[bt.i];
-    const double len = ej.cross(ek).norm();
-    if (!(len > 0.0)) continue;
-    // d(b n/|n|)/dx: |b|/|n| times the edge each vertex's motion turns the normal with
-    const double r = std::abs(bt.b) / len;
-    c[slot(bt.j)] += r * ek.norm();
-    c[slot(bt.k)] += r * ej.norm();
-    c[slot(bt.i)] += r * (ek - ej).norm();
-  }
+// c_a = |dP*/dx_a| = |w_a| of the anchor (P* is linear in x), for each of its particles; returns the sum.
+double anchor_jacobian_bound(const AffineAnchor& an, double* c) {
   double sum = 0.0;
-  for (int a = 0; a < an.count; ++a) sum += c[a];
+  for (int a = 0; a < an.count; ++a) sum += (c[a] = std::abs(an.w[a]));
   return sum;
 }
 
@@ -101,7 +84,7 @@ void bound_needle_coupling(std::vector<std::unique_ptr<NeedleTool::Needle>>& nee
       const AffineAnchor& an = nd.anchors[j];
       if (!an.valid()) continue;
       double* c = &nd.anchor_c[static_cast<size_t>(j) * kAnchorMaxNeighbours];
-      const double C = anchor_jacobian_bound(an, s.x, c);
+      const double C = anchor_jacobian_bound(an, c);
       nd.anchor_csum[j] = C;
       for (int a = 0; a < an.count; ++a) {
         const int q = an.idx[a];

@@ -17,13 +17,6 @@ void anchor_io(AffineAnchor& a, StateIO& io) {
   io.pod(a.count);
   io.pod(a.idx);
   io.pod(a.w);
-  io.pod(a.nbeta);
-  for (AnchorTriplet& t : a.beta) {
-    io.pod(t.i);
-    io.pod(t.j);
-    io.pod(t.k);
-    io.pod(t.b);
-  }
   io.vec(a.offset);
   io.pod(a.rotational);
 }

@@ -1,7 +1,7 @@
 // Brachytherapy seeds (paper Fig. 2, 15). A needle carries seeds planned at depths along its
 // path; while the needle is pulled back, a seed leaves the tip when the tip comes back to its
 // planned depth (the stylet holds it while the cannula withdraws). It is embedded where it lands:
-// an AffineAnchor (discrete deformation coordinates, needle_anchor.h) over the nearest tissue
+// an AffineAnchor (affine weights, needle_anchor.h) over the nearest tissue
 // particles of the needle's tube, so it is carried by the tissue afterwards, rotation and local
 // deformation included. Planned vs actual: planned = start + depth * direction.
 // A seed is armed once the tip has come within kSeedArm of its planned depth: a needle that

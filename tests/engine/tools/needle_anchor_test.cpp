@@ -1,5 +1,6 @@
-// Virtual tissue particle coordinates (AffineAnchor): discrete deformation coordinates with
-// enough non-collinear particles, translation-only fallback with fewer, force continuity on
+// Virtual tissue particle weights (AffineAnchor): affine-reproducing, linear weights with enough
+// non-collinear particles (no stiffness of their own under a held force), translation-only
+// fallback with fewer, force continuity on
 // re-anchoring, momentum-conserving reaction; and the fallback inside a running needle.
 #include "engine/tools/needle_anchor.h"
 
@@ -34,6 +35,59 @@ TEST(AffineAnchor, FullCoordinatesReproduceThePointAndFollowRigidMotion) {
   const Vec3 t(1e-3, -2e-3, 0.5e-3);
   for (Vec3& p : x) p = R * p + t;
   EXPECT_LT((a.evaluate(x) - (R * X + t)).norm(), 1e-12);
+}
+
+TEST(AffineAnchor, IsAffineAndLinearSoAHeldForceAddsNoStiffnessOfItsOwn) {
+  // The paper's coordinates added beta n/|n| terms: P* was nonlinear in x and a stuck node's
+  // friction force F added F . d2P*/dx2 to the tissue, a stiffness the coupling bound could not
+  // scale away (a prostate particle beside the biopsy track ran away at 7.8 m/s,
+  // docs/robustness.md "Prostate particle 208"). The weights now reproduce affine motion and do
+  // not depend on the positions after the build.
+  std::vector<Vec3> x = cloud();
+  const int ids[] = {0, 1, 2, 3, 4, 5};
+  const Vec3 X(0.7e-3, 0.6e-3, 0.5e-3);
+  AffineAnchor a;
+  a.build(X, ids, 6, x, X);
+  ASSERT_TRUE(a.rotational);
+  // a general affine map (stretch and shear, not only a rotation) carries the attractor along
+  Mat3 A;
+  A << 1.2, 0.3, -0.1, 0.05, 0.8, 0.2, -0.15, 0.1, 1.1;
+  const Vec3 t(1e-3, -2e-3, 0.5e-3);
+  std::vector<Vec3> y = x;
+  for (Vec3& p : y) p = A * p + t;
+  EXPECT_LT((a.evaluate(y) - (A * X + t)).norm(), 1e-15);
+  // linear: the reaction to a held force is the same wherever the particles are, so its
+  // derivative (a stiffness) is zero; and the attractor moves by sum w_a dx_a exactly
+  const Vec3 F(0.3, -0.2, 0.6);
+  std::vector<Vec3> f0(x.size(), Vec3::Zero()), f1(x.size(), Vec3::Zero());
+  a.add_reaction(f0, x, F);
+  std::vector<Vec3> z = x;
+  z[1] += Vec3(0.4e-3, -0.3e-3, 0.2e-3);
+  z[4] += Vec3(-0.2e-3, 0.5e-3, 0.1e-3);
+  a.add_reaction(f1, z, F);
+  for (size_t p = 0; p < x.size(); ++p) EXPECT_EQ(f0[p], f1[p]) << p;
+  const Vec3 moved = a.w[1] * (z[1] - x[1]) + a.w[4] * (z[4] - x[4]);
+  EXPECT_LT((a.evaluate(z) - a.evaluate(x) - moved).norm(), 1e-18);
+}
+
+TEST(AffineAnchor, ParticlesInAPlaneReproduceTheInPlaneMotionAndCarryTheNormalOffset) {
+  // a node 1 mm off a wall held by four wall particles (plane z = 0): weights sum to 1 (a
+  // translation of the wall carries the attractor exactly) and an in-plane stretch of the wall
+  // moves it as it moves the point below it
+  std::vector<Vec3> x = {Vec3(0, 0, 0), Vec3(3e-3, 0, 0), Vec3(0, 3e-3, 0), Vec3(3e-3, 3e-3, 0)};
+  const int ids[] = {0, 1, 2, 3};
+  const Vec3 X(1e-3, 2e-3, 1e-3);
+  AffineAnchor a;
+  a.build(X, ids, 4, x, X);
+  ASSERT_TRUE(a.rotational);
+  double wsum = 0;
+  for (int i = 0; i < a.count; ++i) wsum += a.w[i];
+  EXPECT_NEAR(wsum, 1.0, 1e-14);
+  EXPECT_LT((a.offset - Vec3(0, 0, 1e-3)).norm(), 1e-15) << "the distance from the wall is the offset";
+  std::vector<Vec3> y = x;
+  for (Vec3& p : y) p = Vec3(1.5 * p.x() + 0.2 * p.y(), 0.9 * p.y(), 0) + Vec3(0.3e-3, -0.1e-3, 0.4e-3);
+  const Vec3 expected = Vec3(1.5 * X.x() + 0.2 * X.y(), 0.9 * X.y(), 1e-3) + Vec3(0.3e-3, -0.1e-3, 0.4e-3);
+  EXPECT_LT((a.evaluate(y) - expected).norm(), 1e-15);
 }
 
 TEST(AffineAnchor, FewerThanThreeNonCollinearParticlesFallBackToTranslation) {
@@ -72,7 +126,7 @@ TEST(AffineAnchor, APointOutsideItsParticlesTakesTheTranslationFormWithBoundedWe
   }
   EXPECT_NEAR(wsum, 1.0, 1e-12);
   EXPECT_LT((a.evaluate(x) - X).norm(), 1e-15);
-  // the same three particles around a point inside their triangle keep the full coordinates
+  // the same three particles around a point inside their triangle keep the affine weights
   AffineAnchor b;
   const Vec3 Y(6.5e-3, 0.9e-3, 0.4e-3);
   b.build(Y, ids, 3, x, Y);
