@@ -3,8 +3,10 @@
 // scenes and the validation scenes. Prints a table of what each case tried and what held; exit 0
 // when everything held (or was refused cleanly), 3 when any case failed or ran out of its time
 // budget. The one-hour soak benchmark of a default scene (its script looped, watchdog, drift
-// figures, a progress line on stderr every --report-every seconds):
+// figures, a progress line on stderr every --report-every seconds; a checkpoint every
+// --checkpoint-every seconds, so a soak longer than a sitting goes on later with --resume):
 //   prostatesim stress config/biopsy.yaml --cases soak --soak 3600 --budget 86400 --json soak.json
+//       --checkpoint soak.ckpt            (later, the same command with --resume soak.ckpt added)
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -17,6 +19,8 @@
 #include "app/progress.h"
 #include "app/stress.h"
 #include "engine/realtime/script.h"
+#include "engine/realtime/soak_checkpoint.h"
+#include "engine/sim/scene.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/util/atomic_file.h"
@@ -34,6 +38,8 @@ struct StressArgs {
   uint64_t seed = 1;
   std::vector<std::string> cases;
   std::string script;
+  std::string checkpoint, resume;
+  double checkpoint_every_s = 300;
 };
 
 std::vector<std::string> default_scenarios(const std::string& given_root) {
@@ -54,6 +60,12 @@ std::vector<std::string> default_scenarios(const std::string& given_root) {
   std::sort(val.begin(), val.end());
   out.insert(out.end(), val.begin(), val.end());
   return out;
+}
+
+std::string fmt_seconds(double t) {
+  char b[64];
+  std::snprintf(b, sizeof b, "t = %.6g s", t);
+  return b;
 }
 
 std::string csv_field(const std::string& s) {
@@ -83,6 +95,15 @@ void add_stress_command(CLI::App& app, Runner& run) {
   sub->add_option("--report-every", a->report_every_s, "wall seconds between soak progress lines on stderr")
       ->check(CLI::Range(0.1, 86400.0))
       ->capture_default_str();
+  sub->add_option("--checkpoint", a->checkpoint,
+                  "soak only, one scenario: write the soak's state and figures to FILE every --checkpoint-every s of wall time "
+                  "and at its end (atomic), so a long soak can go on later with --resume");
+  sub->add_option("--checkpoint-every", a->checkpoint_every_s, "wall seconds between soak checkpoints")
+      ->check(CLI::Range(1.0, 86400.0))
+      ->capture_default_str();
+  sub->add_option("--resume", a->resume,
+                  "soak only, one scenario: go on from a checkpoint of the same scenario file and script (--soak is the total "
+                  "simulated time, the checkpoint's included)");
   sub->add_option("--seed", a->seed, "seed of the random impulses and command sequences (replay a failure with it)")
       ->capture_default_str();
   sub->callback([a, &run] {
@@ -106,6 +127,11 @@ void add_stress_command(CLI::App& app, Runner& run) {
       const std::vector<std::string> files = a->scenarios.empty() ? default_scenarios(a->root) : a->scenarios;
       if (!a->script.empty() && a->script != "none" && files.size() != 1)
         throw InputError("", 0, "--script", "--script needs exactly one scenario (each default scene has its own script)");
+      for (const auto& [flag, value] : {std::pair<const char*, const std::string*>{"--checkpoint", &a->checkpoint}, {"--resume", &a->resume}})
+        if (!value->empty() && (files.size() != 1 || a->cases != std::vector<std::string>{"soak"}))
+          throw InputError("", 0, flag, std::string(flag) + " needs exactly one scenario and --cases soak");
+      opt.checkpoint = a->checkpoint;
+      opt.checkpoint_every_s = a->checkpoint_every_s;
       std::vector<ScenarioSpec> specs;
       std::vector<std::shared_ptr<const Model>> models;
       for (const auto& f : files) {
@@ -117,6 +143,21 @@ void add_stress_command(CLI::App& app, Runner& run) {
           if (!script.scenario.empty() && script.scenario != specs.back().name)
             throw InputError(sf, 0, "scenario", "script written for scenario '" + script.scenario + "', not '" + specs.back().name + "'");
         }
+      }
+      if (!a->resume.empty()) {  // bad input (file, scenario, script) is exit 2 before the soak starts
+        std::string taken_with;
+        auto cp = std::make_shared<SoakCheckpoint>(read_soak_checkpoint(a->resume, taken_with));
+        check_state_matches(cp->state, specs[0].name, file_content_hash(files[0]));
+        const std::string sf = soak_script_for(specs[0], opt);
+        namespace fs = std::filesystem;
+        const bool same = sf.empty() ? taken_with.empty()
+                                     : !taken_with.empty() && fs::exists(taken_with) && fs::equivalent(fs::path(sf), fs::path(taken_with));
+        if (!same)
+          throw InputError(a->resume, 2, "script", "checkpoint taken looping '" + (taken_with.empty() ? std::string("no script") : taken_with) +
+                                                      "', this soak loops '" + (sf.empty() ? std::string("no script") : sf) + "'");
+        if (cp->state.time >= opt.soak_s - 0.5 * models[0]->dt)
+          throw InputError(a->resume, 0, "--soak", fmt_seconds(cp->state.time) + " already simulated: give a longer --soak to go on");
+        opt.resume = cp;
       }
       int total = 0;
       for (const auto& s : specs) total += static_cast<int>(stress_case_names(s, opt).size());

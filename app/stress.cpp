@@ -12,6 +12,7 @@
 #include "engine/realtime/command_queue.h"
 #include "engine/realtime/script.h"
 #include "engine/realtime/soak.h"
+#include "engine/realtime/soak_checkpoint.h"
 #include "engine/scenario/compile.h"
 #include "engine/sim/watchdog.h"
 #include "engine/step/simulation.h"
@@ -353,10 +354,23 @@ StressResult soak(const ScenarioSpec& spec, const StressOptions& opt) {
   std::unique_ptr<Script> script;
   if (!script_file.empty()) script = std::make_unique<Script>(parse_script_file(script_file));
   ps::Scene sc = build_scene(spec);  // the scene as `run` builds it (needle on the probe guide)
+  if (!spec.file.empty()) sc.content_hash = file_content_hash(spec.file);
   SoakOptions so;
   so.duration = opt.soak_s;
   so.budget_s = opt.budget_s;
   so.report_every_s = opt.report_every_s;
+  if (!opt.checkpoint.empty()) {
+    so.checkpoint_every_s = opt.checkpoint_every_s;
+    so.checkpoint = [&](const SoakCheckpoint& c) {
+      SoakCheckpoint named = c;
+      named.state.scenario = spec.name;
+      named.state.scenario_hash = sc.content_hash;
+      write_soak_checkpoint(opt.checkpoint, named, script_file);
+      if (opt.progress)
+        opt.progress(spec.name + fmt(" soak: checkpoint at t = %.6g s written to ", c.report.sim_s) + opt.checkpoint);
+    };
+  }
+  if (opt.resume) check_state_matches(opt.resume->state, spec.name, sc.content_hash);
   r.tried = fmt("the scene for %.6g s of simulated time", opt.soak_s) +
             (script ? ", looping its script " + script_file + fmt(" (%.4g s a cycle)", script->duration)
                     : std::string(", no script (its own instrument scripts only)")) +
@@ -369,7 +383,7 @@ StressResult soak(const ScenarioSpec& spec, const StressOptions& opt) {
                                  100.0 * p.sim_s / opt.soak_s, p.wall_s) +
                  fmt(" (%.3g s simulated per CPU s, ETA %.0f s wall): ", p.sim_s / std::max(1e-9, p.cpu_s), eta) +
                  soak_figures(p, m));
-  });
+  }, opt.resume.get());
   Outcome o;
   o.held = rep.held;
   o.timeout = rep.timeout;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/model/model.h"
+#include "engine/realtime/soak.h"
 #include "engine/scenario/scenario_spec.h"
 
 namespace ps::app {
@@ -24,6 +25,11 @@ struct StressOptions {
   // when it exists and was written for the scene; "none" = no script; else a file.
   std::string soak_script;
   double report_every_s = 60.0; // wall time between soak progress lines [s]
+  // The soak case writes its checkpoint here every checkpoint_every_s of wall time ("" none)
+  // and goes on from `resume` when given (engine/realtime/soak_checkpoint.h; one scenario only).
+  std::string checkpoint;
+  double checkpoint_every_s = 300.0;
+  std::shared_ptr<const SoakCheckpoint> resume;
   std::function<void(const std::string&)> progress;  // soak progress lines (null: quiet)
 };
 

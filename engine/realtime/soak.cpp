@@ -37,6 +37,12 @@ void LoopingPlayer::poll(int64_t tick, const Simulation&, CommandApplier& apply)
   }
 }
 
+void LoopingPlayer::seek(int64_t tick) {
+  cycle_ = tick / period_;
+  next_ = 0;
+  while (next_ < cmds_.size() && cmds_[next_].tick + cycle_ * period_ < tick) ++next_;
+}
+
 namespace {
 
 double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
@@ -57,7 +63,7 @@ void compare(const std::vector<Vec3>& a, const std::vector<Vec3>& b, double& mx,
 }  // namespace
 
 SoakReport run_soak(Scene& scene, const Script* script, const SoakOptions& opt,
-                    const std::function<void(const SoakReport&)>& progress) {
+                    const std::function<void(const SoakReport&)>& progress, const SoakCheckpoint* resume) {
   using Clock = std::chrono::steady_clock;
   const Model& m = *scene.model;
   SoakReport r;
@@ -74,19 +80,47 @@ SoakReport run_soak(Scene& scene, const Script* script, const SoakOptions& opt,
   LockstepRunner run(*scene.sim);
   if (player) run.add_source(player.get());
   const Watchdog dog(m, opt.limits);
+  std::vector<Vec3> first_cycle_end;
+  // a resumed soak: the state, and the figures and time spent so far
+  double wall0 = 0.0, cpu0 = 0.0;
+  int64_t applied0 = 0, refused0 = 0;
+  if (resume) {
+    if (resume->report.period_ticks != r.period_ticks)
+      throw InputError(resume->state.file, 0, "period_ticks",
+                       "the checkpoint's soak cycled every " + std::to_string(resume->report.period_ticks) + " ticks, this one every " +
+                           std::to_string(r.period_ticks) + " (another script)");
+    if (!resume->report.held) throw InputError(resume->state.file, 0, "held", "the checkpoint's soak had already failed");
+    run.runner().load_state(resume->state);
+    const int64_t target = r.target_ticks, period = r.period_ticks;
+    r = resume->report;
+    r.target_ticks = target;
+    r.period_ticks = period;
+    wall0 = r.wall_s;
+    cpu0 = r.cpu_s;
+    applied0 = r.applied;
+    refused0 = r.refused;
+    first_cycle_end = resume->first_cycle_end;
+  }
   r.limits = opt.limits;
   r.kinetic_limit = dog.max_kinetic();
-  std::vector<Vec3> first_cycle_end;
   const auto w0 = Clock::now();
   const double c0 = cpu_seconds();
-  auto last_report = w0;
+  auto last_report = w0, last_checkpoint = w0;
   auto update_times = [&] {
     r.ticks = run.tick();
     r.sim_s = scene.sim->state().time;
-    r.wall_s = std::chrono::duration<double>(Clock::now() - w0).count();
-    r.cpu_s = cpu_seconds() - c0;
-    r.applied = run.applier().applied();
-    r.refused = run.applier().refused();
+    r.wall_s = wall0 + std::chrono::duration<double>(Clock::now() - w0).count();
+    r.cpu_s = cpu0 + cpu_seconds() - c0;
+    r.applied = applied0 + run.applier().applied();
+    r.refused = refused0 + run.applier().refused();
+  };
+  SoakCheckpoint cp;
+  auto checkpoint = [&] {
+    update_times();
+    run.runner().current_state(cp.state);
+    cp.report = r;
+    cp.first_cycle_end = first_cycle_end;
+    opt.checkpoint(cp);
   };
   while (run.tick() < r.target_ticks) {
     if (!run.step()) {
@@ -123,9 +157,14 @@ SoakReport run_soak(Scene& scene, const Script* script, const SoakOptions& opt,
         update_times();
         progress(r);
       }
+      if (opt.checkpoint && std::chrono::duration<double>(now - last_checkpoint).count() >= opt.checkpoint_every_s) {
+        last_checkpoint = now;
+        checkpoint();
+      }
     }
   }
   update_times();
+  if (opt.checkpoint && r.held && !r.timeout) checkpoint();  // the end: a longer soak can go on from it
   const State& s = scene.sim->state();
   for (size_t si = 0; si < m.surfaces.size(); ++si) {
     const Surface& surf = m.surfaces[si];

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "engine/realtime/command.h"
+#include "engine/realtime/state_file.h"
 #include "engine/realtime/script.h"
 #include "engine/sim/scene.h"
 #include "engine/sim/watchdog.h"
@@ -27,6 +28,8 @@ class LoopingPlayer final : public CommandSource {
   LoopingPlayer(std::vector<Command> cmds, int64_t period);
   void poll(int64_t tick, const Simulation&, CommandApplier& apply) override;
   void rewind() override { next_ = 0; cycle_ = 0; }
+  // Goes on from tick `tick` (a resumed soak): the commands due before it were applied.
+  void seek(int64_t tick) override;
   int64_t period() const { return period_; }
 
  private:
@@ -36,12 +39,18 @@ class LoopingPlayer final : public CommandSource {
   int64_t cycle_ = 0;
 };
 
+struct SoakCheckpoint;
+
 struct SoakOptions {
   double duration = 3600.0;       // simulated time [s]
   double budget_s = 0.0;          // wall-clock budget [s]; 0: none (reported as a timeout)
   double report_every_s = 60.0;   // wall time between progress callbacks [s]
   double period = 1.0;            // drift comparison period without a script [s]
   WatchLimits limits;
+  // A checkpoint (state and the figures so far) is handed to `checkpoint` every
+  // checkpoint_every_s of wall time, between ticks (the caller writes it: soak_checkpoint.h).
+  double checkpoint_every_s = 300.0;  // [s]
+  std::function<void(const SoakCheckpoint&)> checkpoint;
 };
 
 struct SoakReport {
@@ -64,10 +73,22 @@ struct SoakReport {
   std::vector<std::pair<std::string, double>> end_volume_drift;
 };
 
+// Where a soak stands between ticks: enough to go on as if it had not stopped. The simulation is
+// deterministic, so a soak resumed from a checkpoint ends in the same state, bit for bit, with
+// the same figures as one run straight through (tests/engine/realtime/soak_test.cpp).
+struct SoakCheckpoint {
+  SavedState state;                   // TickRunner::current_state (scenario fields by the caller)
+  SoakReport report;                  // the figures so far (wall_s, cpu_s: time spent so far)
+  std::vector<Vec3> first_cycle_end;  // positions at the end of cycle 1 (empty before) [m]
+};
+
 // Runs `scene` for opt.duration of simulated time (script looped when given), checking every
-// tick. progress(report so far) is called every opt.report_every_s of wall time.
+// tick. progress(report so far) is called every opt.report_every_s of wall time. With `resume`
+// (a checkpoint of this scene and script, e.g. read_soak_checkpoint), it goes on from there;
+// InputError when its state does not fit the scene.
 SoakReport run_soak(Scene& scene, const Script* script, const SoakOptions& opt,
-                    const std::function<void(const SoakReport&)>& progress = {});
+                    const std::function<void(const SoakReport&)>& progress = {},
+                    const SoakCheckpoint* resume = nullptr);
 
 // One line of figures: cycles, peaks, drift (units in the text).
 std::string soak_figures(const SoakReport& r, const Model& m);

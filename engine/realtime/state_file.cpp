@@ -15,7 +15,7 @@ namespace ps {
 
 uint64_t saved_state_hash(const std::vector<uint8_t>& bytes) { return fnv1a(bytes.data(), bytes.size()); }
 
-void write_state_file(const std::string& path, const SavedState& s) {
+std::string state_file_text(const SavedState& s) {
   std::string fault = s.fault;
   for (char& c : fault)
     if (c == '\n' || c == '\r') c = ' ';
@@ -26,8 +26,10 @@ void write_state_file(const std::string& path, const SavedState& s) {
   out += head;
   out += "fault " + fault + "\nbytes " + std::to_string(s.bytes.size()) + "\n";
   out.append(reinterpret_cast<const char*>(s.bytes.data()), s.bytes.size());
-  write_file_atomic(path, out);
+  return out;
 }
+
+void write_state_file(const std::string& path, const SavedState& s) { write_file_atomic(path, state_file_text(s)); }
 
 SavedState read_state_file(const std::string& path) {
   std::ifstream f(path, std::ios::binary);

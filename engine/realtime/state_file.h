@@ -40,6 +40,7 @@ struct SavedState {
 };
 
 void write_state_file(const std::string& path, const SavedState& s);  // atomic; throws on I/O error
+std::string state_file_text(const SavedState& s);                     // the same file's content
 SavedState read_state_file(const std::string& path);                  // InputError file:line
 SavedState parse_state_text(const std::string& text, const std::string& file);  // the same from memory
 // state_hash of bytes (the same FNV-1a as Simulation::hash)

@@ -89,6 +89,81 @@ timeline:
     EXPECT_NE(j.find(k), std::string::npos) << k << "\n" << j;
 }
 
+std::string loop_script(const std::string& d) {
+  return write(d, "loop.yaml", R"(scenario: probe_pelvis_box
+duration_s: 0.1
+timeline:
+  - {t: 0.0, probe: {insertion_mm: 53}, over_s: 0.04}
+  - {t: 0.02, fill_rate: bladder, ml_s: 50}
+  - {t: 0.05, fill_rate: bladder, ml_s: -50}
+  - {t: 0.06, probe: {insertion_mm: 50}, over_s: 0.03}
+  - {t: 0.08, fill_rate: bladder, ml_s: 0}
+)");
+}
+
+// the value of the first line "key ..." of a text (a checkpoint's embedded state header)
+std::string value_of(const std::string& text, const std::string& key) {
+  const size_t p = text.find("\n" + key + " ");
+  if (p == std::string::npos) return "";
+  const size_t b = p + key.size() + 2;
+  return text.substr(b, text.find('\n', b) - b);
+}
+
+// A soak longer than a sitting goes on from its checkpoint: stopped at 0.15 s (mid-cycle) and
+// resumed to 0.3 s, it ends in the same state, bit for bit, with the same figures as one run.
+TEST(CliStress, ASoakResumedFromItsCheckpointEndsWhereARunStraightThroughEnds) {
+  const auto d = cli_temp_dir("stress_soak_resume").string();
+  const std::string script = loop_script(d);
+  const std::string scene = std::string(PROSTATESIM_SOURCE_DIR) + "/config/validation/probe_pelvis_box.yaml";
+  const std::string base = "stress " + scene + " --cases soak --script " + script;
+  auto r = run_cli(base + " --soak 0.3 --checkpoint " + d + "/a.ckpt --json " + d + "/a.json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = run_cli(base + " --soak 0.15 --checkpoint " + d + "/b.ckpt");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string half = read_text(d + "/b.ckpt");
+  EXPECT_EQ(value_of(half, "tick"), "150") << "the checkpoint at the soak's end";
+  r = run_cli(base + " --soak 0.3 --resume " + d + "/b.ckpt --checkpoint " + d + "/c.ckpt --json " + d + "/c.json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string straight = read_text(d + "/a.ckpt"), resumed = read_text(d + "/c.ckpt");
+  EXPECT_EQ(value_of(straight, "tick"), "300");
+  ASSERT_FALSE(value_of(straight, "state_hash").empty());
+  EXPECT_EQ(value_of(resumed, "state_hash"), value_of(straight, "state_hash")) << "bit-identical state";
+  for (const char* k : {"cycles", "commands", "peak_speed", "peak_kinetic", "peak_displacement", "cycle_drift", "cycle_end_kinetic", "checks"})
+    EXPECT_EQ(value_of(resumed, k), value_of(straight, k)) << k;
+  const std::string ja = read_text(d + "/a.json"), jc = read_text(d + "/c.json");
+  EXPECT_NE(jc.find("\"cycles\": 3"), std::string::npos) << jc;
+  auto figures = [](const std::string& j) {  // the measured figures after cpu_s (time spent differs)
+    const size_t b = j.find("\"cycle_drift_max_mm\"");
+    return b == std::string::npos ? std::string() : j.substr(b, j.find('}', b) - b);
+  };
+  ASSERT_FALSE(figures(ja).empty()) << ja;
+  EXPECT_EQ(figures(jc), figures(ja));
+}
+
+TEST(CliStress, ACheckpointOfAnotherScriptOrAlreadyLongEnoughOrDamagedIsBadInput) {
+  const auto d = cli_temp_dir("stress_soak_resume_bad").string();
+  const std::string script = loop_script(d);
+  const std::string scene = std::string(PROSTATESIM_SOURCE_DIR) + "/config/validation/probe_pelvis_box.yaml";
+  const std::string base = "stress " + scene + " --cases soak";
+  ASSERT_EQ(run_cli(base + " --script " + script + " --soak 0.05 --checkpoint " + d + "/b.ckpt").code, 0);
+  auto r = run_cli(base + " --script none --soak 0.1 --resume " + d + "/b.ckpt");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("b.ckpt:2: 'script'"), std::string::npos) << r.out;
+  r = run_cli(base + " --script " + script + " --soak 0.05 --resume " + d + "/b.ckpt");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("longer --soak"), std::string::npos) << r.out;
+  std::string text = read_text(d + "/b.ckpt");
+  write(d, "cut.ckpt", text.substr(0, text.size() - 100));
+  r = run_cli(base + " --script " + script + " --soak 0.1 --resume " + d + "/cut.ckpt");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("cut.ckpt:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("'state'"), std::string::npos) << r.out;
+  r = run_cli("stress " + scene + " --soak 0.1 --checkpoint " + d + "/x.ckpt");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("--cases soak"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(d + "/x.ckpt"));
+}
+
 TEST(CliStress, UnknownCaseAndAForeignScriptAreBadInput) {
   const auto d = cli_temp_dir("stress_soak_bad").string();
   const std::string scene = std::string(PROSTATESIM_SOURCE_DIR) + "/config/validation/probe_pelvis_box.yaml";
