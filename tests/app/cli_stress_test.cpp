@@ -63,11 +63,8 @@ TEST(CliStress, QuickRunOnACubePrintsTheTableAndHolds) {
   EXPECT_NE(read_text(d + "/s.csv").find("scene,case,status"), std::string::npos);
 }
 
-// The CI-sized soak through the CLI: the probe and filling validation scene with a 0.1 s script
-// looped three times (the one-hour soak of the default scenes is the same command with --soak 3600).
-TEST(CliStress, SoakLoopsTheScriptAndWritesItsDriftFigures) {
-  const auto d = cli_temp_dir("stress_soak").string();
-  const std::string script = write(d, "loop.yaml", R"(scenario: probe_pelvis_box
+std::string loop_script(const std::string& d) {
+  return write(d, "loop.yaml", R"(scenario: probe_pelvis_box
 duration_s: 0.1
 timeline:
   - {t: 0.0, probe: {insertion_mm: 53}, over_s: 0.04}
@@ -76,6 +73,13 @@ timeline:
   - {t: 0.06, probe: {insertion_mm: 50}, over_s: 0.03}
   - {t: 0.08, fill_rate: bladder, ml_s: 0}
 )");
+}
+
+// The CI-sized soak through the CLI: the probe and filling validation scene with a 0.1 s script
+// looped three times (the one-hour soak of the default scenes is the same command with --soak 3600).
+TEST(CliStress, SoakLoopsTheScriptAndWritesItsDriftFigures) {
+  const auto d = cli_temp_dir("stress_soak").string();
+  const std::string script = loop_script(d);
   const std::string scene = std::string(PROSTATESIM_SOURCE_DIR) + "/config/validation/probe_pelvis_box.yaml";
   const auto r = run_cli("stress " + scene + " --cases soak --soak 0.3 --script " + script + " --json " + d + "/s.json");
   EXPECT_EQ(r.code, 0) << r.out;
@@ -87,18 +91,6 @@ timeline:
   EXPECT_NE(j.find("\"commands_refused\": 0"), std::string::npos) << j;
   for (const char* k : {"peak_kinetic_j", "worst_volume_drift", "cycle_drift_max_mm", "min_margin_mm", "end_volume_drift_bladder"})
     EXPECT_NE(j.find(k), std::string::npos) << k << "\n" << j;
-}
-
-std::string loop_script(const std::string& d) {
-  return write(d, "loop.yaml", R"(scenario: probe_pelvis_box
-duration_s: 0.1
-timeline:
-  - {t: 0.0, probe: {insertion_mm: 53}, over_s: 0.04}
-  - {t: 0.02, fill_rate: bladder, ml_s: 50}
-  - {t: 0.05, fill_rate: bladder, ml_s: -50}
-  - {t: 0.06, probe: {insertion_mm: 50}, over_s: 0.03}
-  - {t: 0.08, fill_rate: bladder, ml_s: 0}
-)");
 }
 
 // the value of the first line "key ..." of a text (a checkpoint's embedded state header)

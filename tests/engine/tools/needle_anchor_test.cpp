@@ -18,15 +18,23 @@ std::vector<Vec3> cloud() {
           Vec3(-1e-3, 1e-3, 1e-3)};
 }
 
+const Vec3 kInside(0.7e-3, 0.6e-3, 0.5e-3);  // a point among the cloud's particles
+
+// An anchor at kInside on all six particles of cloud() (x).
+AffineAnchor anchor_in_cloud(const std::vector<Vec3>& x) {
+  const int ids[] = {0, 1, 2, 3, 4, 5};
+  AffineAnchor a;
+  a.build(kInside, ids, 6, x, kInside);
+  return a;
+}
+
 TEST(AffineAnchor, FullCoordinatesReproduceThePointAndFollowRigidMotion) {
   std::vector<Vec3> x = cloud();
-  const int ids[] = {0, 1, 2, 3, 4, 5};
-  const Vec3 X(0.7e-3, 0.6e-3, 0.5e-3);
-  AffineAnchor a;
-  a.build(X, ids, 6, x, X);
+  const Vec3 X = kInside;
+  const AffineAnchor a = anchor_in_cloud(x);
   ASSERT_TRUE(a.rotational);
   EXPECT_LT((a.evaluate(x) - X).norm(), 1e-15);
-  EXPECT_LT(a.offset.norm(), 1e-12) << "discrete coordinates alone reproduce the point";
+  EXPECT_LT(a.offset.norm(), 1e-12) << "the weights alone reproduce the point";
   double wsum = 0;
   for (int i = 0; i < a.count; ++i) wsum += a.w[i];
   EXPECT_NEAR(wsum, 1.0, 1e-12);
@@ -43,11 +51,9 @@ TEST(AffineAnchor, IsAffineAndLinearSoAHeldForceAddsNoStiffnessOfItsOwn) {
   // scale away (a prostate particle beside the biopsy track ran away at 7.8 m/s,
   // docs/robustness.md "Prostate particle 208"). The weights now reproduce affine motion and do
   // not depend on the positions after the build.
-  std::vector<Vec3> x = cloud();
-  const int ids[] = {0, 1, 2, 3, 4, 5};
-  const Vec3 X(0.7e-3, 0.6e-3, 0.5e-3);
-  AffineAnchor a;
-  a.build(X, ids, 6, x, X);
+  const std::vector<Vec3> x = cloud();
+  const Vec3 X = kInside;
+  const AffineAnchor a = anchor_in_cloud(x);
   ASSERT_TRUE(a.rotational);
   // a general affine map (stretch and shear, not only a rotation) carries the attractor along
   Mat3 A;
