@@ -97,7 +97,7 @@ void add_stress_command(CLI::App& app, Runner& run) {
       ->capture_default_str();
   sub->add_option("--checkpoint", a->checkpoint,
                   "soak only, one scenario: write the soak's state and figures to FILE every --checkpoint-every s of wall time "
-                  "and at its end (atomic), so a long soak can go on later with --resume");
+                  "and at its end or when --budget runs out (atomic), so a long soak can go on later with --resume");
   sub->add_option("--checkpoint-every", a->checkpoint_every_s, "wall seconds between soak checkpoints")
       ->check(CLI::Range(1.0, 86400.0))
       ->capture_default_str();

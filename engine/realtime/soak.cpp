@@ -86,13 +86,16 @@ SoakReport run_soak(Scene& scene, const Script* script, const SoakOptions& opt,
   int64_t applied0 = 0, refused0 = 0;
   if (resume) {
     if (resume->report.period_ticks != r.period_ticks)
-      throw InputError(resume->state.file, 0, "period_ticks",
+      throw InputError(resume->state.file, 3, "period_ticks",
                        "the checkpoint's soak cycled every " + std::to_string(resume->report.period_ticks) + " ticks, this one every " +
                            std::to_string(r.period_ticks) + " (another script)");
-    if (!resume->report.held) throw InputError(resume->state.file, 0, "held", "the checkpoint's soak had already failed");
     run.runner().load_state(resume->state);
     const int64_t target = r.target_ticks, period = r.period_ticks;
     r = resume->report;
+    r.held = true;  // a checkpoint is only taken while the soak holds; its sitting may have timed out
+    r.timeout = false;
+    r.fault.clear();
+    r.end_volume_drift.clear();
     r.target_ticks = target;
     r.period_ticks = period;
     wall0 = r.wall_s;
@@ -164,7 +167,8 @@ SoakReport run_soak(Scene& scene, const Script* script, const SoakOptions& opt,
     }
   }
   update_times();
-  if (opt.checkpoint && r.held && !r.timeout) checkpoint();  // the end: a longer soak can go on from it
+  // the end, or the wall budget's: a longer soak, or the rest of this one, can go on from it
+  if (opt.checkpoint && r.held) checkpoint();
   const State& s = scene.sim->state();
   for (size_t si = 0; si < m.surfaces.size(); ++si) {
     const Surface& surf = m.surfaces[si];

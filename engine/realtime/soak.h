@@ -48,7 +48,8 @@ struct SoakOptions {
   double period = 1.0;            // drift comparison period without a script [s]
   WatchLimits limits;
   // A checkpoint (state and the figures so far) is handed to `checkpoint` every
-  // checkpoint_every_s of wall time, between ticks (the caller writes it: soak_checkpoint.h).
+  // checkpoint_every_s of wall time, between ticks, and at the end or the budget's end unless the
+  // soak failed (the caller writes it: soak_checkpoint.h).
   double checkpoint_every_s = 300.0;  // [s]
   std::function<void(const SoakCheckpoint&)> checkpoint;
 };

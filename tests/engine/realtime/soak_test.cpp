@@ -129,5 +129,32 @@ TEST(Soak, TheWallBudgetEndsItAsATimeout) {
   EXPECT_EQ(r.period_ticks, 1000);  // no script: drift compared every opt.period = 1 s
 }
 
+TEST(Soak, ASoakStoppedByItsBudgetLeavesACheckpointToGoOnFrom) {
+  // the budget ends the first sitting at tick 64; a second sitting goes on from its checkpoint
+  // to tick 128 and ends where one sitting of 128 ticks ends
+  SoakOptions opt;
+  opt.duration = 0.128;  // [s]
+  opt.budget_s = 1e-6;   // [s]
+  std::vector<SoakCheckpoint> taken;
+  opt.checkpoint = [&](const SoakCheckpoint& c) { taken.push_back(c); };
+  Scene first = test::make_live_scene();
+  const SoakReport r1 = run_soak(first, nullptr, opt);
+  ASSERT_TRUE(r1.timeout);
+  ASSERT_EQ(taken.size(), 1u);
+  EXPECT_EQ(taken[0].state.tick, 64);
+  SoakOptions rest;
+  rest.duration = opt.duration;
+  Scene second = test::make_live_scene();
+  const SoakReport r2 = run_soak(second, nullptr, rest, {}, &taken[0]);
+  EXPECT_TRUE(r2.held);
+  EXPECT_FALSE(r2.timeout);
+  EXPECT_EQ(r2.ticks, 128);
+  Scene straight = test::make_live_scene();
+  const SoakReport r3 = run_soak(straight, nullptr, rest);
+  EXPECT_EQ(second.sim->hash(), straight.sim->hash()) << "bit-identical to one sitting";
+  EXPECT_EQ(r2.peaks.max_speed, r3.peaks.max_speed);
+  EXPECT_EQ(r2.peaks.checks, r3.peaks.checks);
+}
+
 }  // namespace
 }  // namespace ps
