@@ -13,6 +13,8 @@
 //   prostatesim_bench --ticks SCENARIO N       N ticks of a scenario file with its tools (callgrind)
 //   prostatesim_bench --soak [N]               config/biopsy.yaml with its tools for N substeps
 //                                              (default 100000): no fault, finite, volumes held
+//   prostatesim_bench --speed-trace SCENARIO SCRIPT [SUBSTEPS [MASS_SCALING]]
+//                                              largest particle speed per 10 ms of a scripted run
 //   prostatesim_bench --realtime [WALL_S]      the real-time loop on each default scene with its
 //                                              script, WALL_S s each: tick rate, jitter, slow motion
 #include <benchmark/benchmark.h>
@@ -39,6 +41,8 @@ int main(int argc, char** argv) {
                                  argc >= 11 ? std::atoi(argv[10]) : 0, argc >= 12 ? std::atof(argv[11]) : -1.0);
   if (argc >= 2 && std::strcmp(argv[1], "--soak") == 0) return ps::bench::soak(argc >= 3 ? std::atoi(argv[2]) : 100000);
   if (argc >= 2 && std::strcmp(argv[1], "--realtime") == 0) return ps::bench::realtime_loop(argc >= 3 ? std::atof(argv[2]) : 20.0);
+  if (argc >= 4 && std::strcmp(argv[1], "--speed-trace") == 0)
+    return ps::bench::speed_trace(argv[2], argv[3], argc >= 5 ? std::atoi(argv[4]) : 0, argc >= 6 ? std::atoi(argv[5]) : -1);
   if (argc >= 4 && std::strcmp(argv[1], "--ticks") == 0) return ps::bench::run_ticks(argv[2], std::atoi(argv[3]));
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
