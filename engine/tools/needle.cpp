@@ -291,7 +291,7 @@ void NeedleTool::forces(const Model& m, State& s, double dt) {
     update_needle_zones(*p, m, s, puncture_kc_, *membranes_, events_);
     prepare_needle_anchors(*p, s);
   }
-  bound_needle_coupling(needles_, m, s, dt, *budget_);
+  bound_needle_coupling(needles_, m, dt, *budget_);
   coupling_stats_.bound = budget_->peak;
   coupling_stats_.bound_applied = budget_->after;
   coupling_stats_.softened_nodes = budget_->softened;

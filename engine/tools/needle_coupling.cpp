@@ -69,7 +69,7 @@ double anchor_jacobian_bound(const AffineAnchor& an, double* c) {
 
 }  // namespace
 
-void bound_needle_coupling(std::vector<std::unique_ptr<NeedleTool::Needle>>& needles, const Model& m, const State& s,
+void bound_needle_coupling(std::vector<std::unique_ptr<NeedleTool::Needle>>& needles, const Model& m,
                            double dt, CouplingBudget& b) {
   for (int q : b.touched) b.g[q] = 0.0;
   b.touched.clear();

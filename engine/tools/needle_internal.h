@@ -153,7 +153,7 @@ struct CouplingBudget {
 // needle_coupling.cpp: (re)builds each node's anchor on its zone (virtual tissue particle), then
 // bounds the summed coupling stiffness per particle over every needle (scale per node)
 void prepare_needle_anchors(NeedleTool::Needle& nd, const State& s);
-void bound_needle_coupling(std::vector<std::unique_ptr<NeedleTool::Needle>>& needles, const Model& m, const State& s,
+void bound_needle_coupling(std::vector<std::unique_ptr<NeedleTool::Needle>>& needles, const Model& m,
                            double dt, CouplingBudget& budget);
 
 // needle_forces.cpp: Algorithm 2 per node: tissue forces, virtual elastic force, stick/slip;
