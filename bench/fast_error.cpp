@@ -1,5 +1,5 @@
 // `prostatesim_bench --fast-error SCENE SUBSTEPS MASS_SCALING TRIPLETS DURATION_S [REF_SUBSTEPS [FAST_NU
-//  [FAST_PRESSURE [PRESSURE_ITERATIONS [FAST_SLEEP_WAKE]]]]]`:
+//  [FAST_PRESSURE [PRESSURE_ITERATIONS [FAST_SLEEP_WAKE [FAST_MULTIRATE]]]]]]`:
 // error of a fast configuration (SUBSTEPS per tick, 0 = the file's; solver.mass_scaling 0/1, -1 =
 // the file's; solver.triplets = TRIPLETS, 0 = all)
 // against the converged reference (the paper's scheme, every triplet, REF_SUBSTEPS per tick,
@@ -13,7 +13,8 @@
 // converged explicit scheme. FAST_PRESSURE 0/1 sets the fast run's prostate material explicit/implicit
 // (-1: the file's); PRESSURE_ITERATIONS > 0 sets its solver.pressure_iterations. FAST_SLEEP_WAKE
 // sets the fast run's sleeping tissue: 0 off, > 0 on with that solver.sleep_wake_m_s2, < 0 (the
-// default) the file's; the reference never sleeps.
+// default) the file's; the reference never sleeps. FAST_MULTIRATE 0/1 sets the fast run's
+// solver.multirate (-1, the default: the file's); the reference never splits.
 #include <algorithm>
 #include <cstdio>
 #include <ctime>
@@ -27,13 +28,14 @@
 namespace ps::bench {
 
 int fast_error(const std::string& scene, int substeps, int mass_scaling, int triplets, double duration,
-               int ref_substeps, double fast_nu, int fast_pressure, int pressure_iterations, double fast_sleep_wake) {
+               int ref_substeps, double fast_nu, int fast_pressure, int pressure_iterations, double fast_sleep_wake,
+               int fast_multirate) {
   const ScenarioSpec ref_spec0 = realtime_scene(scene);
   if (ref_substeps <= 0) ref_substeps = 2 * ref_spec0.substeps;
   ScenarioSpec ref_spec = realtime_scene(scene, 0, ref_substeps, 0, 0);  // plain explicit, every element every substep
   for (MaterialSpec& mat : ref_spec.materials) mat.implicit_pressure = false;
   ref_spec.sleep = false;
-  ScenarioSpec fast_spec = realtime_scene(scene, triplets, substeps, mass_scaling);
+  ScenarioSpec fast_spec = realtime_scene(scene, triplets, substeps, mass_scaling, fast_multirate);
   if (fast_pressure >= 0)
     for (MaterialSpec& mat : fast_spec.materials)
       if (mat.name == "prostate") mat.implicit_pressure = fast_pressure != 0;

@@ -28,6 +28,7 @@ State make_state(const Model& model) {
   if (model.tets.multirate()) {
     s.tet_slow_vol.assign(model.tets.nodes.size(), 0.0);
     s.tet_slow_f.assign(model.rest_pos.size(), Vec3::Zero());
+    s.tet_slow_hold.assign(model.rest_pos.size(), Vec3::Zero());
   }
   if (model.sleep.enabled()) {  // everything awake: every element evaluated, nothing held
     const int nt = model.tets.count();

@@ -58,6 +58,9 @@ struct State {
   std::vector<Vec3> tet_slow_f;         // [n] multi-rate (symmetric split): the slow elements' force at
                                         // the end of the last tick, the next tick's opening half kick [N]
   uint8_t tet_slow_f_valid = 0;         // 1 once tet_slow_f holds the force at the current positions
+  std::vector<Vec3> tet_slow_hold;      // [n] multi-rate: the held part of the slow force, applied as a
+                                        // steady force on every substep (the kicks carry the rest); it
+                                        // follows tet_slow_f tick by tick (end_tet_tick) [N]
   // implicit pressure scratch (Model::tet_pressure; overwritten before use every substep, so not
   // part of save() or the state hash)
   std::vector<double> pressure_rhs;     // [k] right-hand side, then the multiplier step [m^3] / [kg/m]

@@ -185,6 +185,7 @@ void serialize_state(State& s, StateIO& io) {
   io.array(s.tet_slow_vol);
   io.array(s.tet_slow_f);
   io.pod(s.tet_slow_f_valid);
+  if (!s.tet_slow_hold.empty()) io.array(s.tet_slow_hold);  // multi-rate only (the others save none)
   if (!s.asleep.empty()) {  // sleeping tissue (a model without it saves none of this)
     io.array(s.asleep);
     io.array(s.quiet_ticks);
