@@ -16,6 +16,7 @@
 
 #include "tests/app/run_cli.h"
 #include "tests/engine/realtime/live_scene.h"
+#include "tests/xvfb.h"
 
 namespace ps {
 namespace {
@@ -48,7 +49,7 @@ class WindowRecovery : public ::testing::Test {
   // Runs the window in dir_ (the saved state lands there), clicking `clicks`; returns the exit code.
   int window(const std::string& clicks, const std::string& png) {
     const std::string cmd = "cd " + dir_.string() + " && PROSTATESIM_CLICKS='" + clicks + "' PROSTATESIM_SCREENSHOT=" + png +
-                            " timeout 240 xvfb-run -a -s '-screen 0 1600x900x24' " PROSTATESIM_BINARY " run " + scene_ + " --script " +
+                            " timeout 240 " + test::xvfb_run((dir_ / "Xauthority").string()) + PROSTATESIM_BINARY " run " + scene_ + " --script " +
                             script_ + " --duration 0.3 --unpaced --inject-fault nan@100 > " + (dir_ / "log.txt").string() + " 2>&1";
     const int st = std::system(cmd.c_str());
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;

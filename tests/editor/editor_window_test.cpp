@@ -14,6 +14,7 @@
 #include <string>
 
 #include "tests/app/run_cli.h"
+#include "tests/xvfb.h"
 
 namespace {
 
@@ -59,7 +60,7 @@ class EditorWindow : public ::testing::Test {
     if (!dir_.empty()) fs::remove_all(dir_);
   }
   int edit(const std::string& args, const std::string& png) {
-    const std::string cmd = "xvfb-run -a -s '-screen 0 1600x900x24' " PROSTATESIM_BINARY " edit " + file_.string() + " " + args +
+    const std::string cmd = ps::test::xvfb_run((dir_ / "Xauthority").string()) + PROSTATESIM_BINARY " edit " + file_.string() + " " + args +
                             " --frames 4 --screenshot " + png + " > " + (dir_ / "log.txt").string() + " 2>&1";
     const int st = std::system(cmd.c_str());
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;

@@ -10,16 +10,21 @@
 #include <filesystem>
 #include <string>
 
+#include "tests/xvfb.h"
+
 namespace {
 
 TEST(TraineeWindow, OpensUnderXvfbAndShowsThePanels) {
   if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
   const std::string png = (std::filesystem::temp_directory_path() / ("prostatesim_window_" + std::to_string(::getpid()) + ".png")).string();
   std::filesystem::remove(png);
+  const std::string auth = png + ".Xauthority";
   const std::string cmd = "cd " PROSTATESIM_SOURCE_DIR " && PROSTATESIM_SCREENSHOT=" + png +
-                          " xvfb-run -a -s '-screen 0 1600x900x24' " PROSTATESIM_BINARY
+                          " " + ps::test::xvfb_run(auth) + PROSTATESIM_BINARY
                           " run config/biopsy.yaml --script config/scripts/biopsy.yaml --duration 0.05 > /dev/null 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const int rc = std::system(cmd.c_str());
+  std::filesystem::remove(auth);
+  ASSERT_EQ(rc, 0) << cmd;
   int w = 0, h = 0, n = 0;
   unsigned char* img = stbi_load(png.c_str(), &w, &h, &n, 3);
   ASSERT_NE(img, nullptr) << "no screenshot at " << png;
