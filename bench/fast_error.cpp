@@ -1,5 +1,5 @@
 // `prostatesim_bench --fast-error SCENE SUBSTEPS MASS_SCALING TRIPLETS DURATION_S [REF_SUBSTEPS [FAST_NU
-//  [FAST_PRESSURE [PRESSURE_ITERATIONS [FAST_SLEEP_WAKE [FAST_MULTIRATE]]]]]]`:
+//  [FAST_PRESSURE [PRESSURE_ITERATIONS [FAST_SLEEP_WAKE [FAST_MULTIRATE [FAST_DT_MS]]]]]]]`:
 // error of a fast configuration (SUBSTEPS per tick, 0 = the file's; solver.mass_scaling 0/1, -1 =
 // the file's; solver.triplets = TRIPLETS, 0 = all)
 // against the converged reference (the paper's scheme, every triplet, REF_SUBSTEPS per tick,
@@ -14,7 +14,9 @@
 // (-1: the file's); PRESSURE_ITERATIONS > 0 sets its solver.pressure_iterations. FAST_SLEEP_WAKE
 // sets the fast run's sleeping tissue: 0 off, > 0 on with that solver.sleep_wake_m_s2, < 0 (the
 // default) the file's; the reference never sleeps. FAST_MULTIRATE 0/1 sets the fast run's
-// solver.multirate (-1, the default: the file's); the reference never splits.
+// solver.multirate (-1, the default: the file's); the reference never splits. FAST_DT_MS > 0 sets
+// the fast run's tick (time.dt_ms; the reference keeps the file's): a longer tick at the same substep
+// runs the multi-rate slow group less often.
 #include <algorithm>
 #include <cstdio>
 #include <ctime>
@@ -29,7 +31,7 @@ namespace ps::bench {
 
 int fast_error(const std::string& scene, int substeps, int mass_scaling, int triplets, double duration,
                int ref_substeps, double fast_nu, int fast_pressure, int pressure_iterations, double fast_sleep_wake,
-               int fast_multirate) {
+               int fast_multirate, double fast_dt_ms) {
   const ScenarioSpec ref_spec0 = realtime_scene(scene);
   if (ref_substeps <= 0) ref_substeps = 2 * ref_spec0.substeps;
   ScenarioSpec ref_spec = realtime_scene(scene, 0, ref_substeps, 0, 0);  // plain explicit, every element every substep
@@ -39,6 +41,7 @@ int fast_error(const std::string& scene, int substeps, int mass_scaling, int tri
   if (fast_pressure >= 0)
     for (MaterialSpec& mat : fast_spec.materials)
       if (mat.name == "prostate") mat.implicit_pressure = fast_pressure != 0;
+  if (fast_dt_ms > 0.0) fast_spec.dt = fast_dt_ms * 1e-3;
   if (pressure_iterations > 0) fast_spec.pressure_iterations = pressure_iterations;
   if (fast_sleep_wake == 0.0) fast_spec.sleep = false;
   if (fast_sleep_wake > 0.0) {

@@ -180,6 +180,8 @@ struct TetPressure {
   std::vector<int> row_slot;       // [k] tet node slot (TetElements::nodes index) of row r, ascending
   std::vector<int> slot_row;       // [tet nodes] row of the slot, -1: explicit node
   std::vector<int> tets;           // elements with at least one implicit node, ascending
+  std::vector<int> tet_v;          // [4 tets] their particles (TetElements::v), contiguous for the step
+  std::vector<int> tet_row;        // [4 tets] the row of each of their nodes, -1: explicit node
   std::vector<int> particles;      // particles of those elements, ascending (the correction's support)
   std::vector<double> vol0;        // [k] rest volume share V0_n [m^3]
   std::vector<double> alpha;       // [k] compliance V0_n / kappa_n [m^5/N]
@@ -234,6 +236,8 @@ struct ShellElements {
   // hinges [nh]: edge (v[0], v[1]), opposite vertices v[2] (in the face with v0 -> v1 CCW) and v[3]
   std::vector<int> hinge;          // [4 nh] particle indices
   std::vector<double> theta0;      // [nh] rest dihedral angle [rad]
+  std::vector<double> rest_cs;     // [2 nh] cos theta0, sin theta0 (the force measures theta - theta0
+                                   // as one angle, engine/step/shell_elastic.cpp) [-]
   std::vector<double> k_hinge;     // [nh] bending stiffness [N m]
   int triangle_count() const { return static_cast<int>(area_t.size()); }
   int hinge_count() const { return static_cast<int>(theta0.size()); }

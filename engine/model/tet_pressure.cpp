@@ -57,7 +57,11 @@ std::string build_tet_pressure(Model& m, int iterations) {
     for (int i = 0; i < 4; ++i) any |= row_of(v[i]) >= 0;
     if (!any) continue;
     tp.tets.push_back(t);
-    for (int i = 0; i < 4; ++i) in_support[v[i]] = 1;
+    for (int i = 0; i < 4; ++i) {
+      in_support[v[i]] = 1;
+      tp.tet_v.push_back(v[i]);
+      tp.tet_row.push_back(row_of(v[i]));
+    }
   }
   std::vector<int> local(n, -1);
   for (int p = 0; p < n; ++p)

@@ -152,13 +152,20 @@ void PhysicsLoop::update_window(double now, bool force) {
   t.ticks = runner_.tick();
   t.sim_time = sim.state().time;
   const int64_t dticks = runner_.tick() - window_tick0_;
-  t.achieved_hz = span > 0 ? dticks / span : 0.0;
-  t.realtime_factor = span > 0 ? (sim.state().time - window_sim0_) / span : 0.0;
+  // the closing update (force) often finds a window that has just begun, with no tick or a few in
+  // it: it keeps the last whole window's figures (it used to report 0 ticks/s and a 0 ms p99 at
+  // stop) and updates only the running totals below; a run shorter than a window reports its own
+  const bool window_figures = !force || !window_reported_ || (window_n_ > 0 && dticks > 0 && span >= 0.25);
+  if (window_figures) {
+    window_reported_ = true;
+    t.achieved_hz = span > 0 ? dticks / span : 0.0;
+    t.realtime_factor = span > 0 ? (sim.state().time - window_sim0_) / span : 0.0;
+    t.tick_p50_ms = quantile(tick_ms_, window_n_, 0.5);
+    t.tick_p99_ms = quantile(tick_ms_, window_n_, 0.99);
+    t.tick_max_ms = quantile(tick_ms_, window_n_, 1.0);
+    t.jitter_ms = window_n_ > 1 ? quantile(interval_ms_, window_n_, 0.99) - quantile(interval_ms_, window_n_, 0.5) : 0.0;
+  }
   t.target_factor = factor();
-  t.tick_p50_ms = quantile(tick_ms_, window_n_, 0.5);
-  t.tick_p99_ms = quantile(tick_ms_, window_n_, 0.99);
-  t.tick_max_ms = quantile(tick_ms_, window_n_, 1.0);
-  t.jitter_ms = window_n_ > 1 ? quantile(interval_ms_, window_n_, 0.99) - quantile(interval_ms_, window_n_, 0.5) : 0.0;
   t.overruns = overruns_;
   t.reanchors = reanchors_;
   t.slow_motion = lagging_;

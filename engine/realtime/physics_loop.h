@@ -142,6 +142,7 @@ class PhysicsLoop {
   static constexpr int kWindow = 2048;
   std::array<float, kWindow> tick_ms_{}, interval_ms_{};
   int window_n_ = 0;
+  bool window_reported_ = false;   // a whole window's figures are in timing_ (the closing update keeps them)
   double window_start_ = 0.0;      // wall [s]
   int64_t window_tick0_ = 0;
   double window_sim0_ = 0.0;

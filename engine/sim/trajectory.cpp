@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "engine/sim/run.h"
 #include "engine/tools/filling.h"
@@ -90,23 +91,33 @@ Trajectory record_trajectory(const ScenarioSpec& spec, std::shared_ptr<const Mod
 
 TrajectoryError compare_trajectories(const Trajectory& run, const Trajectory& ref) {
   TrajectoryError e;
-  const size_t n = std::min(run.watched.size(), ref.watched.size());
+  // a run whose tick is a whole multiple r of the reference's is compared at its own ticks' ends
+  // (reference tick (k + 1) r - 1), its tick-average force against the mean of the r reference ticks
+  const double ratio = ref.dt > 0.0 ? run.dt / ref.dt : 1.0;
+  const size_t r = std::max<long>(1, std::lround(ratio));
+  if (std::abs(ratio - static_cast<double>(r)) > 1e-9 * ratio)
+    throw std::invalid_argument("compare_trajectories: the run's tick is not a whole multiple of the reference's");
+  const size_t n = std::min(run.watched.size(), ref.watched.size() / r);
   double f2 = 0.0;
-  const size_t nf = std::min(run.force.size(), ref.force.size());
+  const size_t nf = std::min(run.force.size(), ref.force.size() / r);
   for (size_t k = 0; k < nf; ++k) {
-    f2 += (run.force[k] - ref.force[k]) * (run.force[k] - ref.force[k]);
-    e.force_peak = std::max(e.force_peak, std::abs(ref.force[k]));
+    double fr = 0.0;
+    for (size_t j = 0; j < r; ++j) fr += ref.force[k * r + j];
+    fr /= static_cast<double>(r);
+    f2 += (run.force[k] - fr) * (run.force[k] - fr);
   }
+  for (double f : ref.force) e.force_peak = std::max(e.force_peak, std::abs(f));
   e.force_rms = nf ? std::sqrt(f2 / nf) : 0.0;
   for (size_t k = 0; k < n; ++k) {
+    const std::vector<Vec3>& rw = ref.watched[(k + 1) * r - 1];
     double s2 = 0.0;
     for (int i = 0; i < run.prostate_count; ++i) {
-      const double d = (run.watched[k][i] - ref.watched[k][i]).norm();
+      const double d = (run.watched[k][i] - rw[i]).norm();
       s2 += d * d;
       e.prostate_max = std::max(e.prostate_max, d);
     }
     if (run.prostate_count > 0) e.prostate_rms = std::max(e.prostate_rms, std::sqrt(s2 / run.prostate_count));
-    e.target = std::max(e.target, (run.watched[k].back() - ref.watched[k].back()).norm());
+    e.target = std::max(e.target, (run.watched[k].back() - rw.back()).norm());
   }
   // punctures matched in order per (needle, component)
   std::vector<bool> used(ref.punctures.size(), false);

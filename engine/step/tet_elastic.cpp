@@ -143,7 +143,9 @@ inline void element_forces_scalar(const TetElements& te, const Vec3* x, const do
 // in element order, so the result is bit-identical to element_forces_scalar: only the
 // arithmetic is vectorised, the gathers and the scatter stay scalar. Built for AVX and the
 // baseline (target_clones, chosen at load time). list: as element_forces_scalar.
-PS_TARGET_CLONES("avx", "default")
+// The x86-64-v4 clone runs the same 4-lane code with AVX-512's 32 vector registers: the pass
+// holds F, cof F, P and g (36 vectors of 4) and spilled most of them to the stack with AVX's 16.
+PS_TARGET_CLONES("arch=x86-64-v4", "avx", "default")
 void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale,
                         Vec3* f) {
   typedef double D4 __attribute__((vector_size(32)));
@@ -157,16 +159,21 @@ void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, c
     int id[4];  // lane l's element
     for (int l = 0; l < 4; ++l) id[l] = list ? list[k + l] : k + l;
     const int* vl[4] = {vv + 4 * id[0], vv + 4 * id[1], vv + 4 * id[2], vv + 4 * id[3]};  // vl[l][i]: lane l's vertex i
+    // vectors built from their four scalars in one expression each (GCC then assembles them in
+    // registers; lane-by-lane stores into a vector went through the stack and stalled on
+    // store forwarding)
+    const double* xp[4][4];  // xp[i][l]: lane l's vertex i
+    for (int i = 0; i < 4; ++i)
+      for (int l = 0; l < 4; ++l) xp[i][l] = x[vl[l][i]].data();
     D4 e1[3], e2[3], e3[3], g[9];
-    for (int r = 0; r < 3; ++r)
-      for (int l = 0; l < 4; ++l) {
-        const double x0 = x[vl[l][0]][r];
-        e1[r][l] = x[vl[l][1]][r] - x0;
-        e2[r][l] = x[vl[l][2]][r] - x0;
-        e3[r][l] = x[vl[l][3]][r] - x0;
-      }
-    for (int i = 0; i < 9; ++i)
-      for (int l = 0; l < 4; ++l) g[i][l] = gg[9 * id[l] + i];
+    for (int r = 0; r < 3; ++r) {
+      const D4 x0 = {xp[0][0][r], xp[0][1][r], xp[0][2][r], xp[0][3][r]};
+      e1[r] = D4{xp[1][0][r], xp[1][1][r], xp[1][2][r], xp[1][3][r]} - x0;
+      e2[r] = D4{xp[2][0][r], xp[2][1][r], xp[2][2][r], xp[2][3][r]} - x0;
+      e3[r] = D4{xp[3][0][r], xp[3][1][r], xp[3][2][r], xp[3][3][r]} - x0;
+    }
+    const double* gl[4] = {gg + 9 * id[0], gg + 9 * id[1], gg + 9 * id[2], gg + 9 * id[3]};
+    for (int i = 0; i < 9; ++i) g[i] = D4{gl[0][i], gl[1][i], gl[2][i], gl[3][i]};
     D4 F[3][3];
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) F[r][c] = e1[r] * g[c] + e2[r] * g[3 + c] + e3[r] * g[6 + c];
@@ -180,14 +187,14 @@ void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, c
     C[0][2] = F[1][0] * F[2][1] - F[2][0] * F[1][1];
     C[1][2] = F[2][0] * F[0][1] - F[0][0] * F[2][1];
     C[2][2] = F[0][0] * F[1][1] - F[1][0] * F[0][1];
-    D4 pbar, sv, mu;
+    double ps[4];
     for (int l = 0; l < 4; ++l) {
       const int* w = vl[l];
-      pbar[l] = p[slot[w[0]]] + p[slot[w[1]]] + p[slot[w[2]]] + p[slot[w[3]]];
-      sv[l] = scale * vol0[id[l]];
-      mu[l] = mu_t[id[l]];
+      ps[l] = p[slot[w[0]]] + p[slot[w[1]]] + p[slot[w[2]]] + p[slot[w[3]]];
     }
-    pbar = 0.25 * pbar;
+    const D4 pbar = 0.25 * D4{ps[0], ps[1], ps[2], ps[3]};
+    const D4 sv = scale * D4{vol0[id[0]], vol0[id[1]], vol0[id[2]], vol0[id[3]]};
+    const D4 mu = {mu_t[id[0]], mu_t[id[1]], mu_t[id[2]], mu_t[id[3]]};
     const D4 a = sv * mu, b = sv * (pbar - mu);
     D4 P[3][3];
     for (int r = 0; r < 3; ++r)

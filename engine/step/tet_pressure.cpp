@@ -16,38 +16,40 @@ namespace ps {
 
 void project_tet_pressure(const Model& m, State& s, double dt) {
   const TetPressure& tp = m.tet_pressure;
-  const TetElements& te = m.tets;
   const int k = tp.size();
   if (k == 0) return;
   double* rhs = s.pressure_rhs.data();
   double* lambda = s.pressure_lambda.data();
   Vec3* dx = s.pressure_dx.data();
   Vec3* x = s.x.data();
-  const int* vv = te.v.data();
-  const int* slot = te.node_slot.data();
-  const int* row = tp.slot_row.data();
+  // the elements' particles and rows, copied contiguous at compile time (TetPressure::tet_v, tet_row)
+  const int* tv = tp.tet_v.data();
+  const int* trow = tp.tet_row.data();
+  const int ntp = static_cast<int>(tp.tets.size());
   const double inv_h2 = 1.0 / (dt * dt);
   for (int r = 0; r < k; ++r) lambda[r] = 0.0;
   for (int it = 0; it < tp.iterations; ++it) {
     // C_n: volume shares of the implicit nodes at the current positions
     for (int r = 0; r < k; ++r) rhs[r] = 0.0;
-    for (int t : tp.tets) {
-      const int* v = vv + 4 * t;
+    for (int j = 0; j < ntp; ++j) {
+      const int* v = tv + 4 * j;
+      const int* row = trow + 4 * j;
       const Vec3 x0 = x[v[0]];
       const double quarter = (x[v[1]] - x0).dot((x[v[2]] - x0).cross(x[v[3]] - x0)) / 24.0;  // V_t / 4 [m^3]
       for (int i = 0; i < 4; ++i)
-        if (const int r = row[slot[v[i]]]; r >= 0) rhs[r] += quarter;
+        if (const int r = row[i]; r >= 0) rhs[r] += quarter;
     }
     for (int r = 0; r < k; ++r) rhs[r] = -(rhs[r] - tp.vol0[r]) - tp.alpha[r] * inv_h2 * lambda[r];
     solve_tet_pressure(tp, rhs, s.pressure_work.data());  // rhs <- dlambda
     for (int r = 0; r < k; ++r) lambda[r] += rhs[r];
     // x += W J^T dlambda, J at the current positions
     for (int p : tp.particles) dx[p].setZero();
-    for (int t : tp.tets) {
-      const int* v = vv + 4 * t;
+    for (int j = 0; j < ntp; ++j) {
+      const int* v = tv + 4 * j;
+      const int* row = trow + 4 * j;
       double share = 0.0;
       for (int i = 0; i < 4; ++i)
-        if (const int r = row[slot[v[i]]]; r >= 0) share += rhs[r];
+        if (const int r = row[i]; r >= 0) share += rhs[r];
       if (share == 0.0) continue;
       share *= 0.25 / 6.0;  // a quarter per node, and dV/dx = (edge x edge) / 6
       const Vec3 e1 = x[v[1]] - x[v[0]], e2 = x[v[2]] - x[v[0]], e3 = x[v[3]] - x[v[0]];

@@ -8,6 +8,8 @@
 // full-length figures come from `prostatesim_bench --fast-error`.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/trajectory.h"
@@ -79,6 +81,34 @@ TEST(Trajectory, MultirateTetWithinBudgetOfConvergedReference) {
   ASSERT_TRUE(fast_model->tets.multirate());
   EXPECT_GT(fast_model->tets.count() - fast_model->tets.fast_count, fast_model->tets.count() / 2);
   expect_within_budget(biopsy(2 * file.substeps, false, false, false), fast_spec);
+}
+
+// A run whose tick is twice the reference's is compared at its own ticks' ends (the reference's
+// every second tick) and its tick-average force against the mean of the two reference ticks;
+// a tick that is not a whole multiple is refused.
+TEST(Trajectory, ComparesARunWithALongerTickAtItsOwnTicks) {
+  Trajectory ref, run;
+  ref.dt = 1e-3;
+  run.dt = 2e-3;
+  ref.prostate_count = run.prostate_count = 1;
+  for (int k = 0; k < 6; ++k) {  // reference: particle at x = k mm, target at -k mm; force k N
+    ref.watched.push_back({Vec3(k * 1e-3, 0, 0), Vec3(-k * 1e-3, 0, 0)});
+    ref.force.push_back(k);
+  }
+  for (int k = 0; k < 3; ++k) {  // the run at the end of its tick k is the reference's tick 2k+1
+    run.watched.push_back({Vec3((2 * k + 1) * 1e-3, 0, 0), Vec3(-(2 * k + 1) * 1e-3, 0, 0)});
+    run.force.push_back(2 * k + 0.5);  // the mean of reference ticks 2k and 2k+1
+  }
+  TrajectoryError e = compare_trajectories(run, ref);
+  EXPECT_EQ(e.prostate_max, 0.0);
+  EXPECT_EQ(e.target, 0.0);
+  EXPECT_EQ(e.force_rms, 0.0);
+  EXPECT_EQ(e.force_peak, 5.0);
+  run.watched[1][0].x() += 0.2e-3;  // 0.2 mm off at one tick
+  e = compare_trajectories(run, ref);
+  EXPECT_NEAR(e.prostate_max, 0.2e-3, 1e-12);
+  run.dt = 1.5e-3;
+  EXPECT_THROW(compare_trajectories(run, ref), std::invalid_argument);
 }
 
 }  // namespace
