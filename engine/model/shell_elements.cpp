@@ -8,16 +8,12 @@
 
 namespace ps {
 
-namespace {
-
-// The hinge's angle as the direction of (x, y) = (n1 . n2, (n1 x n2) . e / |e|), and its gradient.
-inline void hinge_frame(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, double& x, double& y, Vec3* grad) {
+double hinge_angle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, Vec3* grad) {
   const Vec3 e = x1 - x0;
   const Vec3 n1 = e.cross(x2 - x0);         // face (x0, x1, x2), |n1| = 2 A1
   const Vec3 n2 = (x0 - x1).cross(x3 - x1);  // face (x1, x0, x3), |n2| = 2 A2
   const double le2 = e.squaredNorm(), le = std::sqrt(le2);
-  y = n1.cross(n2).dot(e) / le;
-  x = n1.dot(n2);
+  const double theta = std::atan2(n1.cross(n2).dot(e) / le, n1.dot(n2));
   if (grad) {
     // d theta / d x2 = -|e| n1 / |n1|^2 (the height of x2 over the edge is |n1| / |e|), the same
     // for x3 with n2; the edge vertices take minus these in proportion to where the opposite
@@ -30,14 +26,7 @@ inline void hinge_frame(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Ve
     grad[2] = u2;
     grad[3] = u3;
   }
-}
-
-}  // namespace
-
-double hinge_angle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, Vec3* grad) {
-  double x, y;
-  hinge_frame(x0, x1, x2, x3, x, y, grad);
-  return std::atan2(y, x);
+  return theta;
 }
 
 void build_shell_elements(Model& m, const std::vector<ShellParticle>& mat) {
