@@ -146,6 +146,11 @@ struct TetElements {
                                    // rest): F = sum_i (x_i - x_0) g_i^T [1/m]
   std::vector<double> vol0;        // [nt] rest volume V0 [m^3]
   std::vector<double> mu;          // [nt] shear modulus mu of the element [Pa]
+  // g again, in blocks of four elements for the 4-lane element pass: g4[36 b + 4 i + l] is entry
+  // i of g for element 4 b + l (zero past the last element); one vector load per entry instead of
+  // four scalar ones. Built by pack_tet_blocks after the last change to g (compile_scenario);
+  // empty: the pass gathers from g.
+  std::vector<double> g4;
   std::vector<int> nodes;          // particles touched by some element, ascending
   std::vector<double> node_inv_vol0;  // [nodes] 1 / (sum of V0/4 over the node's elements) [1/m^3]
   std::vector<double> node_kappa;  // [nodes] volumetric modulus lambda + mu of the node's particle [Pa]

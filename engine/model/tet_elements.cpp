@@ -149,4 +149,12 @@ std::vector<std::string> build_tet_elements(Model& m, const std::vector<TetParti
   return warnings;
 }
 
+void pack_tet_blocks(TetElements& te) {
+  const int nt = te.count();
+  const int blocks = (nt + 3) / 4;
+  te.g4.assign(36 * static_cast<size_t>(blocks), 0.0);
+  for (int t = 0; t < nt; ++t)
+    for (int i = 0; i < 9; ++i) te.g4[36 * (t / 4) + 4 * i + t % 4] = te.g[9 * t + i];
+}
+
 }  // namespace ps

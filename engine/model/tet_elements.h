@@ -39,6 +39,9 @@ std::vector<std::string> build_tet_elements(Model& model, const std::vector<TetP
                                             const std::vector<std::vector<int>>& excluded,
                                             const std::vector<TetLink>& links);
 
+// Fills te.g4 from te.g (TetElements::g4). Call after the last change to te.g, v or their order.
+void pack_tet_blocks(TetElements& te);
+
 // Generalised winding number of a closed surface (faces index `pos`) about point q: 1 inside,
 // 0 outside (van Oosterom & Strackee solid angles).
 double winding_number(const std::vector<std::array<int, 3>>& faces, const std::vector<Vec3>& pos, const Vec3& q);

@@ -8,6 +8,7 @@
 #include <chrono>
 
 #include "engine/model/discrete_coordinates.h"
+#include "engine/model/tet_elements.h"
 #include "engine/model/tet_pressure.h"
 #include "engine/scenario/compile_stages.h"
 #include "engine/scenario/scene_regions.h"
@@ -41,6 +42,7 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   compile_elements(spec, m, work);                       // strain clusters, tet elements (use the surfaces)
   compile_fibres(m);                                     // active fibres
   compile_time_step(spec, m, work);                      // stable substep; multirate, mass scaling, substeps
+  pack_tet_blocks(m.tets);                               // the element pass's 4-lane copy of g (final order)
   if (std::string note = build_tet_pressure(m, spec.pressure_iterations); !note.empty())
     work.notes.push_back(note);                          // implicit pressure: factor for the final substep
   compile_sleep(spec, m, work);                          // sleeping tissue: who may sleep (needs the pressure's support)

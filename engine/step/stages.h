@@ -58,6 +58,10 @@ void add_tet_node_volumes(const TetElements& te, const Vec3* x, const int* list,
 void tet_node_pressures(const TetElements& te, double* vol);
 // tet_elastic.cpp: the force of elements list[0..count), with node pressures p [Pa], added to f
 void add_tet_element_forces(const TetElements& te, const Vec3* x, const double* p, const int* list, int count, Vec3* f);
+// tet_elastic.cpp: the same for elements list[begin..end) (list null: the elements begin..end-1
+// themselves, read from TetElements::g4 from the first block boundary on), forces times scale
+void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale,
+                        Vec3* f);
 // integrate.cpp: symplectic Euler with implicit velocity damping v /= (1 + c dt)
 void integrate(const Model& m, State& s, double dt);
 // tet_pressure.cpp: the implicit nodal pressure of `pressure: implicit` tet nodes (Model::tet_pressure)

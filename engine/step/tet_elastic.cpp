@@ -18,6 +18,8 @@
 // Three passes: node volumes, node pressures, element forces (multi-rate: TetPass in stages.h). Forces sum to zero per element
 // (momentum) and the energy is rotation invariant (angular momentum). No allocation: the node
 // scratch is State::tet_node_vol, sized at make_state.
+#include <algorithm>
+
 #include "engine/step/stages.h"
 #include "engine/util/multiversion.h"
 
@@ -154,28 +156,46 @@ void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, c
   const double* gg = te.g.data();
   const double* vol0 = te.vol0.data();
   const double* mu_t = te.mu.data();
+  // elements in index order with the blocked copy of g (TetElements::g4): the elements before the
+  // first block boundary go through the scalar pass (the same bits), then whole blocks load g,
+  // V0 and mu as vectors
+  const bool packed = !list && te.g4.size() >= 9 * static_cast<size_t>(end);
   int k = begin;
+  if (packed && (k & 3) != 0) {
+    const int head = std::min(end, (k + 3) & ~3);
+    element_forces_scalar(te, x, p, nullptr, k, head, scale, f);
+    k = head;
+  }
+  typedef double U4 __attribute__((vector_size(32), aligned(8), may_alias));  // unaligned view
   for (; k + 4 <= end; k += 4) {
     int id[4];  // lane l's element
+    #pragma GCC unroll 16
     for (int l = 0; l < 4; ++l) id[l] = list ? list[k + l] : k + l;
     const int* vl[4] = {vv + 4 * id[0], vv + 4 * id[1], vv + 4 * id[2], vv + 4 * id[3]};  // vl[l][i]: lane l's vertex i
     // vectors built from their four scalars in one expression each (GCC then assembles them in
     // registers; lane-by-lane stores into a vector went through the stack and stalled on
     // store forwarding)
     const double* xp[4][4];  // xp[i][l]: lane l's vertex i
+    #pragma GCC unroll 16
     for (int i = 0; i < 4; ++i)
+      #pragma GCC unroll 16
       for (int l = 0; l < 4; ++l) xp[i][l] = x[vl[l][i]].data();
     D4 e1[3], e2[3], e3[3], g[9];
+    #pragma GCC unroll 16
     for (int r = 0; r < 3; ++r) {
       const D4 x0 = {xp[0][0][r], xp[0][1][r], xp[0][2][r], xp[0][3][r]};
       e1[r] = D4{xp[1][0][r], xp[1][1][r], xp[1][2][r], xp[1][3][r]} - x0;
       e2[r] = D4{xp[2][0][r], xp[2][1][r], xp[2][2][r], xp[2][3][r]} - x0;
       e3[r] = D4{xp[3][0][r], xp[3][1][r], xp[3][2][r], xp[3][3][r]} - x0;
     }
+    const double* gb = te.g4.data() + 9 * k;  // packed: block k / 4
     const double* gl[4] = {gg + 9 * id[0], gg + 9 * id[1], gg + 9 * id[2], gg + 9 * id[3]};
-    for (int i = 0; i < 9; ++i) g[i] = D4{gl[0][i], gl[1][i], gl[2][i], gl[3][i]};
+    #pragma GCC unroll 16
+    for (int i = 0; i < 9; ++i) g[i] = packed ? *reinterpret_cast<const U4*>(gb + 4 * i) : D4{gl[0][i], gl[1][i], gl[2][i], gl[3][i]};
     D4 F[3][3];
+    #pragma GCC unroll 16
     for (int r = 0; r < 3; ++r)
+      #pragma GCC unroll 16
       for (int c = 0; c < 3; ++c) F[r][c] = e1[r] * g[c] + e2[r] * g[3 + c] + e3[r] * g[6 + c];
     D4 C[3][3];
     C[0][0] = F[1][1] * F[2][2] - F[2][1] * F[1][2];
@@ -188,29 +208,35 @@ void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, c
     C[1][2] = F[2][0] * F[0][1] - F[0][0] * F[2][1];
     C[2][2] = F[0][0] * F[1][1] - F[1][0] * F[0][1];
     double ps[4];
+    #pragma GCC unroll 16
     for (int l = 0; l < 4; ++l) {
       const int* w = vl[l];
       ps[l] = p[slot[w[0]]] + p[slot[w[1]]] + p[slot[w[2]]] + p[slot[w[3]]];
     }
     const D4 pbar = 0.25 * D4{ps[0], ps[1], ps[2], ps[3]};
-    const D4 sv = scale * D4{vol0[id[0]], vol0[id[1]], vol0[id[2]], vol0[id[3]]};
-    const D4 mu = {mu_t[id[0]], mu_t[id[1]], mu_t[id[2]], mu_t[id[3]]};
+    const D4 sv = scale * (packed ? *reinterpret_cast<const U4*>(vol0 + k) : D4{vol0[id[0]], vol0[id[1]], vol0[id[2]], vol0[id[3]]});
+    const D4 mu = packed ? *reinterpret_cast<const U4*>(mu_t + k) : D4{mu_t[id[0]], mu_t[id[1]], mu_t[id[2]], mu_t[id[3]]};
     const D4 a = sv * mu, b = sv * (pbar - mu);
     D4 P[3][3];
+    #pragma GCC unroll 16
     for (int r = 0; r < 3; ++r)
+      #pragma GCC unroll 16
       for (int c = 0; c < 3; ++c) P[r][c] = a * F[r][c] + b * C[r][c];
     D4 f1[3], f2[3], f3[3];
+    #pragma GCC unroll 16
     for (int r = 0; r < 3; ++r) {
       f1[r] = -(P[r][0] * g[0] + P[r][1] * g[1] + P[r][2] * g[2]);
       f2[r] = -(P[r][0] * g[3] + P[r][1] * g[4] + P[r][2] * g[5]);
       f3[r] = -(P[r][0] * g[6] + P[r][1] * g[7] + P[r][2] * g[8]);
     }
+    #pragma GCC unroll 16
     for (int l = 0; l < 4; ++l) {
       const int* w = vl[l];
       double* F0 = f[w[0]].data();
       double* F1 = f[w[1]].data();
       double* F2 = f[w[2]].data();
       double* F3 = f[w[3]].data();
+      #pragma GCC unroll 16
       for (int r = 0; r < 3; ++r) {
         F1[r] += f1[r][l];
         F2[r] += f2[r][l];

@@ -157,7 +157,7 @@ ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), recta
   }
   hit_.assign(cand_.size(), 0);
 
-  // broad phase: FCL over the surfaces of the components that hold candidates
+  // the FCL broad phase (ProbeBroadPhase::Fcl): a tree over the surfaces of the components that hold candidates
   cand_of_.assign(m.particle_count(), -1);
   for (size_t i = 0; i < cand_.size(); ++i) cand_of_[cand_[i]] = static_cast<int>(i);
   std::vector<std::array<int, 3>> faces;

@@ -39,22 +39,22 @@
 // triangle between two particles resting on the probe may sag into it by about h^2 / (8 r)
 // (0.3 mm for h = 5 mm, r = 10 mm).
 //
-// Broad phase (which particles to test): FCL (DEFAULT, engine/tools/fcl_surface.h). One FCL
-// BVH (OBB) over the surface triangles of every component the probe may touch (the rectal wall
-// first, then the prostate, fat, bladder and bone surfaces when they are in the contact set) is
-// refitted to the particles' positions and queried with fcl::collide against an fcl::Capsule
-// kProbeQueryMargin wider than the probe, once per substep at the start of constraints(); the
-// vertices of the triangles with a corner inside that capsule are the candidates of that
-// substep, so the query misses no surface particle; particles on no such surface (interior
-// particles of volumetric components) are candidates when inside the capsule's bounding box. The exact
-// projection below then acts on the candidates only: FCL finds the contacts, the analytic
-// capsule distance resolves them, so the 0.1 mm guarantee does not depend on FCL's GJK
-// tolerance. The margin (1 mm) covers what the volume alternation and the engine's volume stage
-// move particles after the query (measured below 1 um), and after_step() reads the penetration
-// over the same candidates. No allocation per query (fcl_surface.h says how). The previous
-// analytic broad phase (an axis-aligned box around the capsule, then the capsule distance, over
-// every candidate) is kept as ProbeBroadPhase::Box for comparison; both give bit-identical
-// states (tested) and their cost is measured in bench/probe_bench.cpp (docs/performance.md).
+// Broad phase (which particles to test): an axis-aligned box around the capsule over every
+// candidate particle (DEFAULT, ProbeBroadPhase::Box), or FCL (engine/tools/fcl_surface.h): one FCL
+// AABB tree over the surface triangles of every component the probe may touch (the rectal wall
+// first, then the prostate, fat, bladder and bone surfaces when they are in the contact set),
+// refitted to the particles' positions and queried against a capsule kProbeQueryMargin wider than
+// the probe, once per substep at the start of constraints(); the vertices of the triangles with a
+// corner inside that capsule are the candidates of that substep, so the query misses no surface
+// particle; particles on no such surface (interior particles of volumetric components) are
+// candidates when inside the capsule's bounding box. The exact projection below then acts on the
+// candidates only, so the 0.1 mm guarantee depends on neither broad phase. The margin (1 mm)
+// covers what the volume alternation and the engine's volume stage move particles after the query
+// (measured below 1 um), and after_step() reads the penetration over the same candidates. Both
+// give bit-identical states (tested). The box is the default because it costs less: one capsule
+// against a few thousand particles is not a case a tree pays for, since the tree has to be
+// refitted over every triangle every substep (bench/probe_bench.cpp, docs/performance.md: 12 us
+// against 37 us per substep on the biopsy scene). No allocation per query in either.
 //
 // Reaction force (force feedback read-out): a contact correction dx_p of a particle of mass m_p
 // over a substep dt stands for a force m_p dx_p / dt^2 applied by the probe (in quasi-static
@@ -86,8 +86,8 @@ inline constexpr double kProbeMaxTiltRad = 0.7853981633974483;  // |tilt|, |yaw|
 inline constexpr double kProbeQueryMargin = 1e-3;           // [m] FCL query: probe radius + this
 
 enum class ProbeBroadPhase : uint8_t {
-  Fcl,   // default: FCL BVH over the contact surfaces, refitted and queried every substep
-  Box,   // every candidate, axis-aligned box around the capsule (reference, benchmarks)
+  Fcl,   // FCL AABB tree over the contact surfaces, refitted and queried every substep
+  Box,   // default: every candidate, axis-aligned box around the capsule
 };
 
 class ProbeTool final : public Tool {
@@ -112,7 +112,7 @@ class ProbeTool final : public Tool {
   // the lengthened moves since `cursor` as snapshot events (kSnapshotEventAdjusted)
   int64_t events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out) const override;
 
-  // Broad phase used from the next substep on (default Fcl). Between ticks.
+  // Broad phase used from the next substep on (default Box). Between ticks.
   void set_broad_phase(ProbeBroadPhase b) { broad_ = fcl_ ? b : ProbeBroadPhase::Box; }
   ProbeBroadPhase broad_phase() const { return broad_; }
   int fcl_triangle_count() const { return fcl_ ? static_cast<int>(fcl_->faces().size()) : 0; }
@@ -186,7 +186,7 @@ class ProbeTool final : public Tool {
   std::vector<uint8_t> hit_;       // [cand] corrected this substep
   bool volume_coupled_ = false;    // a candidate or target is on a volume-constrained surface
   // broad phase
-  ProbeBroadPhase broad_ = ProbeBroadPhase::Fcl;
+  ProbeBroadPhase broad_ = ProbeBroadPhase::Box;
   std::unique_ptr<FclSurfaceContact> fcl_;  // null when no candidate lies on a surface
   std::vector<int> cand_of_;       // [particle] candidate index, -1 if none
   std::vector<int> loose_;         // candidates on no surface of the BVH (always tested)

@@ -348,16 +348,20 @@ TEST(ProbeContact, SameCommandsGiveBitIdenticalStates) {
 }
 
 TEST(ProbeContact, StepWithProbeAndFillingDoesNotAllocate) {
-  // counting allocator over many substeps with contact (FCL refit + query every substep),
-  // volume alternation and filling
-  Scene s = make_scene(true);
-  s.probe->move_to(pushed(*s.probe, 0.005, 3 * kDeg), 0.0);
-  run(s, 5);
-  ASSERT_EQ(s.probe->broad_phase(), ProbeBroadPhase::Fcl);
-  const long before = test::allocation_count();
-  for (int i = 0; i < 30; ++i) ASSERT_TRUE(s.sim->tick());
-  EXPECT_EQ(test::allocation_count() - before, 0);
-  EXPECT_GT(s.probe->contact_count(), 0);
+  // counting allocator over many substeps with contact (either broad phase: the box by default,
+  // FCL's refit + query every substep), volume alternation and filling
+  for (ProbeBroadPhase b : {ProbeBroadPhase::Box, ProbeBroadPhase::Fcl}) {
+    Scene s = make_scene(true);
+    ASSERT_EQ(s.probe->broad_phase(), ProbeBroadPhase::Box);
+    s.probe->set_broad_phase(b);
+    ASSERT_EQ(s.probe->broad_phase(), b);
+    s.probe->move_to(pushed(*s.probe, 0.005, 3 * kDeg), 0.0);
+    run(s, 5);
+    const long before = test::allocation_count();
+    for (int i = 0; i < 30; ++i) ASSERT_TRUE(s.sim->tick());
+    EXPECT_EQ(test::allocation_count() - before, 0);
+    EXPECT_GT(s.probe->contact_count(), 0);
+  }
 }
 
 TEST(ProbeContact, FclAndBoxBroadPhasesGiveBitIdenticalStates) {
