@@ -20,6 +20,7 @@
 
 #include "engine/model/shell_elements.h"
 #include "engine/step/stages.h"
+#include "engine/util/multiversion.h"
 
 namespace ps {
 
@@ -107,29 +108,171 @@ inline double hinge_bend(const Vec3& x0, const Vec3& x1, const Vec3& x2, const V
 
 }  // namespace
 
+namespace {
+
+// triangle t's membrane force, added to f (the scalar pass; the 4-lane one below does exactly
+// these operations)
+inline void membrane_force(const ShellElements& sh, const Vec3* x, int t, Vec3* f) {
+  Vec3 a, b, pa, pb;
+  membrane(sh, x, t, a, b, pa, pb);
+  // dE/dx_j = P Bm^T column j: x1 <- row 0 of Bm, x2 <- row 1
+  const double* B = &sh.bm[4 * t];
+  const Vec3 g1 = pa * B[0] + pb * B[1];
+  const Vec3 g2 = pa * B[2] + pb * B[3];
+  const int* v = &sh.tri[3 * t];
+  f[v[1]] -= g1;
+  f[v[2]] -= g2;
+  f[v[0]] += g1 + g2;
+}
+
+// hinge h's bending force, added to f (scalar)
+inline void hinge_force(const ShellElements& sh, const Vec3* x, int h, Vec3* f) {
+  const int* v = &sh.hinge[4 * h];
+  Vec3 g[4];
+  const double bend = hinge_bend(x[v[0]], x[v[1]], x[v[2]], x[v[3]], sh.rest_cs[2 * h], sh.rest_cs[2 * h + 1], g);
+  const double c = sh.k_hinge[h] * bend;  // dE/dtheta [N m]
+  for (int i = 0; i < 4; ++i) f[v[i]] -= c * g[i];
+}
+
+// Four lanes of the scalar passes' arithmetic (GCC vector extensions, as the tet element pass):
+// each lane does the scalar operations in the scalar order (Eigen's 3-vector dot is
+// (x0 y0 + x1 y1) + x2 y2, its cross the textbook one; no FMA anywhere, -ffp-contract=off), and
+// the forces go to the particles lane by lane in element order, so both give the same bits
+// (tests/engine/step/shell_elastic_test.cpp). Square roots lane by lane (std::sqrt, exact).
+// The helpers below are always inlined into the passes (whose clones have AVX): their by-value
+// vector returns never cross a call, so GCC's note on the non-AVX calling convention is moot.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+#define PS_LANES inline __attribute__((always_inline))
+typedef double D4 __attribute__((vector_size(32)));
+typedef long long L4 __attribute__((vector_size(32)));
+
+struct V3 { D4 c[3]; };
+PS_LANES V3 sub(const V3& a, const V3& b) { return {{a.c[0] - b.c[0], a.c[1] - b.c[1], a.c[2] - b.c[2]}}; }
+PS_LANES D4 dot(const V3& a, const V3& b) { return (a.c[0] * b.c[0] + a.c[1] * b.c[1]) + a.c[2] * b.c[2]; }
+PS_LANES V3 cross(const V3& a, const V3& b) {
+  return {{a.c[1] * b.c[2] - a.c[2] * b.c[1], a.c[2] * b.c[0] - a.c[0] * b.c[2], a.c[0] * b.c[1] - a.c[1] * b.c[0]}};
+}
+PS_LANES D4 sqrt4(D4 v) { return D4{std::sqrt(v[0]), std::sqrt(v[1]), std::sqrt(v[2]), std::sqrt(v[3])}; }
+PS_LANES bool all4(L4 m) { return m[0] && m[1] && m[2] && m[3]; }
+
+// vertex i of lanes l = 0..3, whose particle indices are idx[stride l + i]
+PS_LANES V3 gather(const Vec3* x, const int* idx, int stride, int i) {
+  const double* p0 = x[idx[i]].data();
+  const double* p1 = x[idx[stride + i]].data();
+  const double* p2 = x[idx[2 * stride + i]].data();
+  const double* p3 = x[idx[3 * stride + i]].data();
+  return {{D4{p0[0], p1[0], p2[0], p3[0]}, D4{p0[1], p1[1], p2[1], p3[1]}, D4{p0[2], p1[2], p2[2], p3[2]}}};
+}
+
+#undef PS_LANES
+#pragma GCC diagnostic pop
+
+}  // namespace
+
+// Membranes [begin, end) into f: blocks of four triangles whose in-plane C is not collapsed in
+// any lane run 4-wide (a block with a collapsed one, rare, runs the scalar pass).
+PS_TARGET_CLONES("arch=x86-64-v4", "avx", "default")
+void add_shell_membrane_forces(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
+  int t = begin;
+  for (; t + 4 <= end; t += 4) {
+    const int* v = &sh.tri[3 * t];
+    const double* Bp = &sh.bm[4 * t];
+    D4 B[4];
+    for (int i = 0; i < 4; ++i) B[i] = D4{Bp[i], Bp[4 + i], Bp[8 + i], Bp[12 + i]};
+    const V3 x0 = gather(x, v, 3, 0);
+    const V3 d1 = sub(gather(x, v, 3, 1), x0), d2 = sub(gather(x, v, 3, 2), x0);
+    V3 a, b;
+    for (int r = 0; r < 3; ++r) {
+      a.c[r] = d1.c[r] * B[0] + d2.c[r] * B[2];
+      b.c[r] = d1.c[r] * B[1] + d2.c[r] * B[3];
+    }
+    const D4 c00 = dot(a, a), c01 = dot(a, b), c11 = dot(b, b);
+    const D4 det = c00 * c11 - c01 * c01;
+    if (!all4(det > 1e-12)) {
+      for (int l = 0; l < 4; ++l) membrane_force(sh, x, t + l, f);
+      continue;
+    }
+    const D4 mu = D4{sh.mu[t], sh.mu[t + 1], sh.mu[t + 2], sh.mu[t + 3]};
+    const D4 lam = D4{sh.lambda[t], sh.lambda[t + 1], sh.lambda[t + 2], sh.lambda[t + 3]};
+    const D4 at = D4{sh.area_t[t], sh.area_t[t + 1], sh.area_t[t + 2], sh.area_t[t + 3]};
+    const D4 sq = sqrt4(det), tau = sqrt4(c00 + c11 + 2.0 * sq);
+    const D4 S00 = (c00 + sq) / tau, S01 = c01 / tau, S11 = (c11 + sq) / tau;
+    const D4 detS = S00 * S11 - S01 * S01;
+    const D4 i00 = S11 / detS, i01 = -S01 / detS, i11 = S00 / detS;
+    const D4 trm = S00 + S11 - 2.0;
+    const D4 g00 = 2.0 * mu * (S00 - 1.0) + lam * trm, g01 = 2.0 * mu * S01, g11 = 2.0 * mu * (S11 - 1.0) + lam * trm;
+    V3 g1, g2;
+    for (int r = 0; r < 3; ++r) {
+      const D4 r0 = a.c[r] * i00 + b.c[r] * i01, r1 = a.c[r] * i01 + b.c[r] * i11;  // R = F S^-1
+      const D4 pa = at * (r0 * g00 + r1 * g01), pb = at * (r0 * g01 + r1 * g11);
+      g1.c[r] = pa * B[0] + pb * B[1];
+      g2.c[r] = pa * B[2] + pb * B[3];
+    }
+    for (int l = 0; l < 4; ++l) {
+      const int* w = v + 3 * l;
+      double* f0 = f[w[0]].data();
+      double* f1 = f[w[1]].data();
+      double* f2 = f[w[2]].data();
+      for (int r = 0; r < 3; ++r) f1[r] -= g1.c[r][l];
+      for (int r = 0; r < 3; ++r) f2[r] -= g2.c[r][l];
+      for (int r = 0; r < 3; ++r) f0[r] += g1.c[r][l] + g2.c[r][l];
+    }
+  }
+  for (; t < end; ++t) membrane_force(sh, x, t, f);
+}
+
+// Hinges [begin, end) into f, four at a time; a lane whose bend is outside atan2_small's range
+// takes std::atan2 for it, as the scalar pass does.
+PS_TARGET_CLONES("arch=x86-64-v4", "avx", "default")
+void add_shell_hinge_forces(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
+  int h = begin;
+  for (; h + 4 <= end; h += 4) {
+    const int* v = &sh.hinge[4 * h];
+    const V3 x0 = gather(x, v, 4, 0), x1 = gather(x, v, 4, 1), x2 = gather(x, v, 4, 2), x3 = gather(x, v, 4, 3);
+    // hinge_bend's operations
+    const V3 e = sub(x1, x0);
+    const V3 n1 = cross(e, sub(x2, x0));
+    const V3 n2 = cross(sub(x0, x1), sub(x3, x1));
+    const D4 le2 = dot(e, e), le = sqrt4(le2), inv_le2 = 1.0 / le2;
+    const D4 ys = dot(cross(n1, n2), e), xs = dot(n1, n2) * le;
+    const D4 s2 = -le / dot(n1, n1), s3 = -le / dot(n2, n2);
+    const D4 a1 = dot(sub(x2, x0), e) * inv_le2, a2 = dot(sub(x3, x0), e) * inv_le2;
+    const double* cs = &sh.rest_cs[2 * h];
+    const D4 cos0 = D4{cs[0], cs[2], cs[4], cs[6]}, sin0 = D4{cs[1], cs[3], cs[5], cs[7]};
+    const D4 sy = ys * cos0 - xs * sin0, cx = xs * cos0 + ys * sin0;
+    // atan2_small in four lanes
+    const D4 z = sy / cx, w = z * z, w2 = w * w, w4 = w2 * w2, w8 = w4 * w4;
+    constexpr double a1c = 1.0 / 3, a2c = 1.0 / 5, a3c = 1.0 / 7, a4c = 1.0 / 9, a5c = 1.0 / 11, a6c = 1.0 / 13, a7c = 1.0 / 15;
+    constexpr double a8c = 1.0 / 17, a9c = 1.0 / 19, a10c = 1.0 / 21, a11c = 1.0 / 23, a12c = 1.0 / 25;
+    const D4 q0 = 1.0 - w * a1c, q1 = a2c - w * a3c, q2 = a4c - w * a5c, q3 = a6c - w * a7c;
+    const D4 q4 = a8c - w * a9c, q5 = a10c - w * a11c;
+    const D4 r0 = q0 + q1 * w2, r1 = q2 + q3 * w2, r2 = q4 + q5 * w2;
+    D4 bend = z * ((r0 + r1 * w4) + (r2 + a12c * w4) * w8);
+    for (int l = 0; l < 4; ++l)
+      if (!(cx[l] > 0.0 && std::abs(sy[l]) <= 0.25 * cx[l])) bend[l] = std::atan2(sy[l], cx[l]);
+    const D4 c = D4{sh.k_hinge[h], sh.k_hinge[h + 1], sh.k_hinge[h + 2], sh.k_hinge[h + 3]} * bend;  // dE/dtheta [N m]
+    V3 g[4];
+    for (int r = 0; r < 3; ++r) {
+      const D4 u2 = s2 * n1.c[r], u3 = s3 * n2.c[r];
+      g[0].c[r] = -(1.0 - a1) * u2 - (1.0 - a2) * u3;
+      g[1].c[r] = -a1 * u2 - a2 * u3;
+      g[2].c[r] = u2;
+      g[3].c[r] = u3;
+    }
+    for (int l = 0; l < 4; ++l)
+      for (int i = 0; i < 4; ++i) {
+        double* fi = f[v[4 * l + i]].data();
+        for (int r = 0; r < 3; ++r) fi[r] -= c[l] * g[i].c[r][l];
+      }
+  }
+  for (; h < end; ++h) hinge_force(sh, x, h, f);
+}
+
 void add_shell_elastic_forces(const Model& m, State& s) {
   const ShellElements& sh = m.shells;
-  const Vec3* x = s.x.data();
-  Vec3* f = s.f.data();
-  for (int t = 0, nt = sh.triangle_count(); t < nt; ++t) {
-    Vec3 a, b, pa, pb;
-    membrane(sh, x, t, a, b, pa, pb);
-    // dE/dx_j = P Bm^T column j: x1 <- row 0 of Bm, x2 <- row 1
-    const double* B = &sh.bm[4 * t];
-    const Vec3 g1 = pa * B[0] + pb * B[1];
-    const Vec3 g2 = pa * B[2] + pb * B[3];
-    const int* v = &sh.tri[3 * t];
-    f[v[1]] -= g1;
-    f[v[2]] -= g2;
-    f[v[0]] += g1 + g2;
-  }
-  for (int h = 0, nh = sh.hinge_count(); h < nh; ++h) {
-    const int* v = &sh.hinge[4 * h];
-    Vec3 g[4];
-    const double bend = hinge_bend(x[v[0]], x[v[1]], x[v[2]], x[v[3]], sh.rest_cs[2 * h], sh.rest_cs[2 * h + 1], g);
-    const double c = sh.k_hinge[h] * bend;  // dE/dtheta [N m]
-    for (int i = 0; i < 4; ++i) f[v[i]] -= c * g[i];
-  }
+  add_shell_membrane_forces(sh, s.x.data(), 0, sh.triangle_count(), s.f.data());
+  add_shell_hinge_forces(sh, s.x.data(), 0, sh.hinge_count(), s.f.data());
 }
 
 double shell_elastic_energy(const Model& m, const State& s) {

@@ -37,6 +37,10 @@ double tet_elastic_energy(const Model& m, const State& s);
 // shell_elastic.cpp: elastic force of the shell model's membranes (Model::shells, docs/model.md
 // "Shell model"): co-rotational constant-strain triangles (plane stress) and dihedral hinges
 void add_shell_elastic_forces(const Model& m, State& s);
+// shell_elastic.cpp: the same per part, for triangles / hinges [begin, end), added to f (blocks of
+// four run 4-wide, the rest scalar; both give the same bits)
+void add_shell_membrane_forces(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f);
+void add_shell_hinge_forces(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f);
 // shell_elastic.cpp: the energy whose negative gradient that force is [J] (tests, diagnostics)
 double shell_elastic_energy(const Model& m, const State& s);
 // active.cpp: fibre contraction of active components scaled by State::activation
