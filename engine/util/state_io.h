@@ -52,10 +52,15 @@ class StateIO {
       if (!resizable) throw std::runtime_error("StateIO: buffer size differs from the saved state's");
       v.resize(n);
     }
+    // Vec3 and Quat are plain doubles without padding: the whole array is one copy, the same
+    // bytes as one vec() / quat() per element (per element, the app's per-tick save of the last
+    // good state cost about a quarter of a tick)
     if constexpr (std::is_same_v<T, Vec3>) {
-      for (auto& x : v) vec(x);
+      static_assert(sizeof(Vec3) == 3 * sizeof(double));
+      if (n) bytes(v.data()->data(), n * sizeof(Vec3));
     } else if constexpr (std::is_same_v<T, Quat>) {
-      for (auto& x : v) quat(x);
+      static_assert(sizeof(Quat) == 4 * sizeof(double));
+      if (n) bytes(v.data()->coeffs().data(), n * sizeof(Quat));
     } else {
       static_assert(std::is_trivially_copyable_v<T>);
       if (n) bytes(v.data(), n * sizeof(T));
