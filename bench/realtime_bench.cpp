@@ -81,5 +81,33 @@ BENCHMARK_CAPTURE(BM_Realtime, biopsy, "biopsy")
 BENCHMARK_CAPTURE(BM_Realtime, brachytherapy, "brachytherapy")
     ->Args({0, 0, -1})->Args({0, 7, 1})->Iterations(kTicks)->UseManualTime()->Unit(benchmark::kMicrosecond);
 
+// What the app adds to each tick on the physics thread: the save of the last good state before
+// every tick (TickRunner::keep_last_good, `run` and the window), and a recording's full state hash
+// every hash_every (100) ticks (Simulation::hash: the same save, then FNV-1a over its bytes).
+// The scene as shipped, with its tools, after 0.1 s.
+void BM_StateSave(benchmark::State& state, const char* scene, bool hash) {
+  const ScenarioSpec spec = realtime_scene(scene);
+  auto model = compile_scenario(spec);
+  Simulation sim(model);
+  if (auto t = make_needle_tool(model, spec.needles)) sim.add_tool(std::move(t));
+  if (auto t = make_probe_tool(spec, *model)) sim.add_tool(std::move(t));
+  if (auto t = make_filling_tool(spec, *model)) sim.add_tool(std::move(t));
+  while (sim.state().time < 0.1 - 0.5 * model->dt)
+    if (!sim.tick()) { state.SkipWithError("warm-up faulted"); return; }
+  std::vector<uint8_t> buf;
+  sim.save(buf);
+  uint64_t h = 0;
+  for (auto _ : state) {
+    if (hash) h ^= sim.hash();
+    else sim.save(buf);
+    benchmark::DoNotOptimize(buf.data());
+  }
+  benchmark::DoNotOptimize(h);
+  state.counters["bytes"] = static_cast<double>(buf.size());
+}
+BENCHMARK_CAPTURE(BM_StateSave, biopsy, "biopsy", false)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_StateSave, brachytherapy, "brachytherapy", false)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_StateSave, brachytherapy_hash, "brachytherapy", true)->Unit(benchmark::kMicrosecond);
+
 }  // namespace
 }  // namespace ps::bench

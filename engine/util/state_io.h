@@ -4,6 +4,7 @@
 // scene has the same sizes, and a mismatch throws instead of reading past the end.
 // Saving and hashing run between ticks (never inside Simulation::step).
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -18,8 +19,18 @@ namespace ps {
 class StateIO {
  public:
   enum Mode : uint8_t { Save, Restore };
+  // Save: buf is overwritten from its start; it holds exactly the saved bytes after finish() or
+  // the destructor (until then it may be longer). Its capacity is reused: a buffer that held a
+  // save of the same simulation takes the next one without allocating.
   explicit StateIO(std::vector<uint8_t>& buf, Mode mode) : buf_(buf), mode_(mode) {
-    if (mode == Save) buf_.clear();
+    if (mode == Save) buf_.resize(buf_.capacity());  // written at pos_ with memcpy (no insert per field)
+  }
+  ~StateIO() { finish(); }
+  StateIO(const StateIO&) = delete;
+  StateIO& operator=(const StateIO&) = delete;
+  // Save: cuts buf to the bytes written. Idempotent.
+  void finish() {
+    if (mode_ == Save) buf_.resize(pos_);
   }
   bool saving() const { return mode_ == Save; }
   size_t position() const { return pos_; }
@@ -32,8 +43,11 @@ class StateIO {
   }
   void bytes(void* p, size_t n) {
     if (mode_ == Save) {
-      const auto* b = static_cast<const uint8_t*>(p);
-      buf_.insert(buf_.end(), b, b + n);
+      // the state has thousands of small fields (a needle's anchors): one vector insert each cost
+      // about a tenth of a brachytherapy tick in the app's per-tick save of the last good state
+      if (pos_ + n > buf_.size()) buf_.resize(std::max(pos_ + n, 2 * buf_.size()));
+      if (n) std::memcpy(buf_.data() + pos_, p, n);
+      pos_ += n;
     } else {
       if (pos_ + n > buf_.size()) throw std::runtime_error("StateIO: saved state is shorter than this simulation's");
       std::memcpy(p, buf_.data() + pos_, n);

@@ -131,6 +131,7 @@ TEST(Filling, ThousandsOfLiveCommandsKeepTheSavedLengthAndFollowTheirTargets) {
     std::vector<uint8_t> b;
     StateIO io(b, StateIO::Save);
     t.serialize(io);
+    io.finish();
     return b;
   };
   const size_t length = saved(tool).size();
