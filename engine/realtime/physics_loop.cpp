@@ -71,6 +71,7 @@ void PhysicsLoop::start() {
 void PhysicsLoop::stop() {
   stop_.store(true, std::memory_order_release);
   if (thread_.joinable()) thread_.join();
+  runner_.finish_hashes();  // a periodic hash still being spread over ticks (set_hash_observer)
   running_.store(false, std::memory_order_release);
 }
 
@@ -241,6 +242,7 @@ void PhysicsLoop::thread_loop() {
     const bool at_stop = opt_.stop_at_tick >= 0 && runner_.tick() >= opt_.stop_at_tick;
     if (at_stop && !paused()) pause();
     if ((paused() && !stepping) || faulted()) {
+      runner_.finish_hashes();  // idle: a spread hash under way is completed now (a crash then keeps it)
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
       anchor_wall = wall_s();  // resume in step with the clock from here
       anchor_tick = runner_.tick();

@@ -1,5 +1,6 @@
 #include "engine/realtime/tick_runner.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <limits>
@@ -71,12 +72,48 @@ bool TickRunner::step(StageProbe* probe) {
   }
   ++tick_;
   for (CommandSource* s : sources_) s->after_tick(tick_, sim_);
-  if (hash_observer_ && hash_every_ > 0 && tick_ % hash_every_ == 0) hash_observer_->state_hash(tick_, sim_.hash());
+  if (hash_observer_ && hash_every_ > 0) {
+    if (hash_tick_ >= 0) advance_hash(false);
+    if (tick_ % hash_every_ == 0) {
+      if (!spread_) {
+        hash_observer_->state_hash(tick_, sim_.hash());
+      } else {
+        if (hash_tick_ >= 0) advance_hash(true);  // the previous one, if a slice was short (it is not: hash_every / 2 ticks)
+        sim_.save(hash_buf_);                      // the capacity sized in spread_hashes(): no allocation
+        hash_tick_ = tick_;
+        hash_pos_ = 0;
+        hash_h_ = fnv1a(nullptr, 0);
+      }
+    }
+  }
   return true;
+}
+
+void TickRunner::spread_hashes(bool on) {
+  spread_ = on;
+  if (on) sim_.save(hash_buf_);
+  hash_tick_ = -1;
+}
+
+void TickRunner::advance_hash(bool to_end) {
+  const size_t n = hash_buf_.size();
+  const size_t slices = static_cast<size_t>(std::max(1, hash_every_ / 2));
+  const size_t chunk = to_end ? n - hash_pos_ : std::min(n - hash_pos_, (n + slices - 1) / slices);
+  hash_h_ = fnv1a(hash_buf_.data() + hash_pos_, chunk, hash_h_);
+  hash_pos_ += chunk;
+  if (hash_pos_ < n) return;
+  const int64_t t = hash_tick_;
+  hash_tick_ = -1;
+  if (hash_observer_) hash_observer_->state_hash(t, hash_h_);
+}
+
+void TickRunner::finish_hashes() {
+  if (hash_tick_ >= 0) advance_hash(true);
 }
 
 void TickRunner::reset() {
   sim_.restore(initial_);
+  hash_tick_ = -1;  // a hash under way belonged to the run that is gone
   tick_ = 0;
   faulted_ = false;
   fault_text_.clear();
@@ -108,6 +145,7 @@ void TickRunner::load_state(const SavedState& st) {
     throw InputError(st.file, 9, "bytes", std::string("does not fit this scenario's simulation (") + e.what() + ")");
   }
   tick_ = st.tick;
+  hash_tick_ = -1;
   faulted_ = false;
   fault_text_.clear();
   Command c;

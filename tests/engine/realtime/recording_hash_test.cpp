@@ -15,6 +15,7 @@
 #include "engine/realtime/physics_loop.h"
 #include "engine/realtime/recording.h"
 #include "engine/util/error.h"
+#include "tests/engine/counting_allocator.h"
 #include "tests/engine/realtime/live_scene.h"
 
 namespace ps {
@@ -73,6 +74,49 @@ Check replay(const Recording& r) {
   run.runner().set_hash_observer(&v, r.header.hash_every);
   EXPECT_TRUE(run.advance_to(r.complete ? r.end_tick : kTicks));
   return {v.checked(), v.diverged(), v.diverged_tick(), v.describe()};
+}
+
+// TickRunner::spread_hashes (the real-time loop's way): the same hashes for the same ticks as
+// hashing at the tick, each handed over within hash_every / 2 ticks of its own, without allocating
+TEST(RecordingHashes, SpreadOverTicksTheyAreTheSameHashesForTheSameTicks) {
+  struct Log final : HashObserver {
+    LockstepRunner* run = nullptr;
+    std::vector<std::pair<int64_t, uint64_t>> got;
+    std::vector<int64_t> at;  // ticks completed when each was handed over
+    void state_hash(int64_t ticks, uint64_t hash) override {
+      got.emplace_back(ticks, hash);
+      at.push_back(run->tick());
+    }
+  };
+  Log plain, spread;
+  long allocations = -1;
+  for (Log* log : {&plain, &spread}) {
+    Scene sc = test::make_live_scene();
+    const Script s = parse_script_text(test::live_script_yaml(), "live.yaml");
+    CommandPlayer p(script_commands(s, sc));
+    LockstepRunner run(*sc.sim);
+    log->run = &run;
+    log->got.reserve(64);
+    log->at.reserve(64);
+    run.add_source(&p);
+    run.runner().set_hash_observer(log, kEvery);
+    if (log == &spread) run.runner().spread_hashes(true);
+    ASSERT_TRUE(run.advance_to(kEvery + 1));  // past the first save into the buffers
+    const long before = test::allocation_count();
+    ASSERT_TRUE(run.advance_to(kTicks));
+    if (log == &spread) allocations = test::allocation_count() - before;
+    run.runner().finish_hashes();
+  }
+  ASSERT_EQ(plain.got.size(), static_cast<size_t>(kTicks / kEvery));
+  EXPECT_EQ(spread.got, plain.got);
+  for (size_t i = 0; i < spread.got.size(); ++i) {
+    EXPECT_EQ(plain.at[i], plain.got[i].first);  // at its tick
+    if (i + 1 < spread.got.size()) {              // the last one by finish_hashes()
+      EXPECT_GT(spread.at[i], spread.got[i].first);
+      EXPECT_LE(spread.at[i], spread.got[i].first + kEvery / 2);
+    }
+  }
+  EXPECT_EQ(allocations, 0);
 }
 
 TEST(RecordingHashes, LiveRunWritesThemAndReplayChecksEveryOne) {
