@@ -19,6 +19,7 @@
 
 #include "bench/realtime_scenes.h"
 #include "engine/scenario/compile.h"
+#include "engine/sim/scene.h"
 #include "engine/tools/filling.h"
 #include "engine/tools/needle.h"
 #include "engine/tools/probe.h"
@@ -86,13 +87,9 @@ BENCHMARK_CAPTURE(BM_Realtime, brachytherapy, "brachytherapy")
 // every hash_every (100) ticks (Simulation::hash: the same save, then FNV-1a over its bytes).
 // The scene as shipped, with its tools, after 0.1 s.
 void BM_StateSave(benchmark::State& state, const char* scene, bool hash) {
-  const ScenarioSpec spec = realtime_scene(scene);
-  auto model = compile_scenario(spec);
-  Simulation sim(model);
-  if (auto t = make_needle_tool(model, spec.needles)) sim.add_tool(std::move(t));
-  if (auto t = make_probe_tool(spec, *model)) sim.add_tool(std::move(t));
-  if (auto t = make_filling_tool(spec, *model)) sim.add_tool(std::move(t));
-  while (sim.state().time < 0.1 - 0.5 * model->dt)
+  Scene sc = build_scene(realtime_scene(scene));
+  Simulation& sim = *sc.sim;
+  while (sim.state().time < 0.1 - 0.5 * sc.model->dt)
     if (!sim.tick()) { state.SkipWithError("warm-up faulted"); return; }
   std::vector<uint8_t> buf;
   sim.save(buf);
