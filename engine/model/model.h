@@ -151,6 +151,13 @@ struct TetElements {
   // four scalar ones. Built by pack_tet_blocks after the last change to g (compile_scenario);
   // empty: the pass gathers from g.
   std::vector<double> g4;
+  // The elements around each node, ascending (pack_tet_blocks): node a's are
+  // node_elem[node_elem_start[a] .. node_elem_start[a + 1]), the fast ones (< fast_count) before
+  // node_elem_mid[a]. The node volumes sum each node's shares over them in element order: the
+  // order of the scatter over the elements, without its chain of read-modify-writes in memory.
+  std::vector<int> node_elem_start;  // [nodes + 1]
+  std::vector<int> node_elem;        // [4 nt] element indices
+  std::vector<int> node_elem_mid;    // [nodes]
   std::vector<int> nodes;          // particles touched by some element, ascending
   std::vector<double> node_inv_vol0;  // [nodes] 1 / (sum of V0/4 over the node's elements) [1/m^3]
   std::vector<double> node_kappa;  // [nodes] volumetric modulus lambda + mu of the node's particle [Pa]

@@ -155,6 +155,20 @@ void pack_tet_blocks(TetElements& te) {
   te.g4.assign(36 * static_cast<size_t>(blocks), 0.0);
   for (int t = 0; t < nt; ++t)
     for (int i = 0; i < 9; ++i) te.g4[36 * (t / 4) + 4 * i + t % 4] = te.g[9 * t + i];
+  const int nn = static_cast<int>(te.nodes.size());
+  te.node_elem_start.assign(nn + 1, 0);
+  for (int v : te.v) ++te.node_elem_start[te.node_slot[v] + 1];
+  for (int a = 0; a < nn; ++a) te.node_elem_start[a + 1] += te.node_elem_start[a];
+  std::vector<int> fill(te.node_elem_start.begin(), te.node_elem_start.end() - 1);
+  te.node_elem.assign(te.v.size(), 0);
+  for (int t = 0; t < nt; ++t)  // ascending t: each node's list comes out ascending
+    for (int i = 0; i < 4; ++i) te.node_elem[fill[te.node_slot[te.v[4 * t + i]]]++] = t;
+  te.node_elem_mid.assign(nn, 0);
+  for (int a = 0; a < nn; ++a) {
+    int e = te.node_elem_start[a];
+    while (e < te.node_elem_start[a + 1] && te.node_elem[e] < te.fast_count) ++e;
+    te.node_elem_mid[a] = e;
+  }
 }
 
 }  // namespace ps

@@ -39,7 +39,8 @@ std::vector<std::string> build_tet_elements(Model& model, const std::vector<TetP
                                             const std::vector<std::vector<int>>& excluded,
                                             const std::vector<TetLink>& links);
 
-// Fills te.g4 from te.g (TetElements::g4). Call after the last change to te.g, v or their order.
+// Fills te.g4 from te.g and the node -> element lists (TetElements::g4, node_elem*). Call after the
+// last change to te.g, v, their order or fast_count.
 void pack_tet_blocks(TetElements& te);
 
 // Generalised winding number of a closed surface (faces index `pos`) about point q: 1 inside,

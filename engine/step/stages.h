@@ -58,6 +58,12 @@ void rebuild_tet_sleep(const Model& m, State& s);
 // tet_elastic.cpp: elements list[0..count) (ascending) add their volume shares V_t / 4 to vol
 // (indexed like Model::tets.nodes) [m^3]
 void add_tet_node_volumes(const TetElements& te, const Vec3* x, const int* list, int count, double* vol);
+// tet_elastic.cpp: q[t] = V_t / 4 of the elements [begin, end) [m^3] (the node volumes gather them)
+void tet_quarters(const TetElements& te, const Vec3* x, int begin, int end, double* q);
+// tet_elastic.cpp: adds the volume shares of the elements [begin, end) to vol [m^3], gathered per
+// node when the range is the fast group, the slow group or all (q: [nt] scratch), else scattered;
+// the same bits as add_tet_node_volumes over the same elements
+void add_tet_range_volumes(const TetElements& te, const Vec3* x, int begin, int end, double* q, double* vol);
 // tet_elastic.cpp: node volume shares vol [m^3] -> node pressures kappa (J_n - 1) [Pa], in place
 void tet_node_pressures(const TetElements& te, double* vol);
 // tet_elastic.cpp: the force of elements list[0..count), with node pressures p [Pa], added to f

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "engine/model/material.h"
+#include "engine/model/tet_elements.h"
 #include "engine/step/simulation.h"
 #include "engine/step/stages.h"
 #include "engine/util/error.h"
@@ -113,6 +114,41 @@ TEST(TetElasticForce, BlockedRangesEqualTheScalarPassBitForBit) {
     int differing = 0;
     for (int q = 0; q < n; ++q)
       for (int a = 0; a < 3; ++a) differing += (blocked[q][a] != one[q][a]) + (gathered[q][a] != one[q][a]);
+    EXPECT_EQ(differing, 0) << "elements [" << begin << ", " << end << ")";
+  }
+}
+
+TEST(TetElasticForce, GatheredNodeVolumesEqualTheScatterBitForBit) {
+  // the node volumes of the fast group, the slow group and all elements are summed per node over
+  // its element list (TetElements::node_elem) in element order: the scatter's additions in the
+  // scatter's order, so the same bits; another range falls back to the scatter
+  auto m = test::compile_text(kCylinderYaml);
+  TetElements te = m->tets;
+  const int nt = te.count(), nn = static_cast<int>(te.nodes.size());
+  ASSERT_GT(nt, 16);
+  te.fast_count = nt / 3;  // a split like the one multi-rate makes
+  pack_tet_blocks(te);
+  State s = make_state(*m);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> N(0.0, 0.8e-3);
+  for (int p = 0; p < m->particle_count(); ++p) s.x[p] = m->rest_pos[p] + Vec3(N(rng), N(rng), N(rng));
+  std::vector<double> q(nt, 0.0);
+  tet_quarters(te, s.x.data(), 0, nt, q.data());
+  for (int t = 0; t < nt; ++t) {
+    const int* v = &te.v[4 * t];
+    const Vec3 x0 = s.x[v[0]];
+    EXPECT_EQ(q[t], (s.x[v[1]] - x0).dot((s.x[v[2]] - x0).cross(s.x[v[3]] - x0)) / 24.0) << "element " << t;
+  }
+  const int nf = te.fast_count;
+  for (const auto& [begin, end] : {std::pair{0, nf}, {nf, nt}, {0, nt}, {1, nt}}) {
+    std::vector<double> gathered(nn), scattered(nn);
+    for (int a = 0; a < nn; ++a) gathered[a] = scattered[a] = 1e-7 * (a % 5);  // a held part first, as the step has
+    add_tet_range_volumes(te, s.x.data(), begin, end, q.data(), gathered.data());
+    std::vector<int> list;
+    for (int t = begin; t < end; ++t) list.push_back(t);
+    add_tet_node_volumes(te, s.x.data(), list.data(), end - begin, scattered.data());
+    int differing = 0;
+    for (int a = 0; a < nn; ++a) differing += gathered[a] != scattered[a];
     EXPECT_EQ(differing, 0) << "elements [" << begin << ", " << end << ")";
   }
 }
