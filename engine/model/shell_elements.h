@@ -21,7 +21,6 @@ struct ShellParticle {
 // towards their normals' side. grad (optional, 4 entries): d theta / d x_i [1/m].
 double hinge_angle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, Vec3* grad = nullptr);
 
-
 // Fills model.shells for every component whose particles have mu > 0 (needs model.surfaces).
 // Each surface face becomes a triangle, each edge shared by two faces a hinge. Throws CompileError
 // naming the component when its surface has an edge with more than two faces (not a manifold) or

@@ -22,6 +22,9 @@
 #include "engine/step/stages.h"
 #include "engine/util/multiversion.h"
 
+// the 4-lane helpers' vector returns (see "Four lanes" below)
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 namespace ps {
 
 namespace {
@@ -72,18 +75,25 @@ inline double membrane(const ShellElements& sh, const Vec3* x, int t, Vec3& a, V
 // degrees) atan(s / c) is its odd Taylor series to z^25: the first term left out, |z|^27 / 27,
 // is below 8.3e-18 |z|, under half an ulp; the sum is in Estrin's form (short dependency chains).
 // Anything else goes to std::atan2.
-inline double atan2_small(double s, double c) {
-  if (!(c > 0.0 && std::abs(s) <= 0.25 * c)) return std::atan2(s, c);
-  const double z = s / c, w = z * z, w2 = w * w, w4 = w2 * w2, w8 = w4 * w4;
+// atan_series: atan(z) for |z| <= 1/4 by that series, for a double or four lanes of them (the
+// hinge passes below: the same operations in the same order either way; always inlined, so the
+// 4-lane form never crosses a call)
+template <class T>
+inline __attribute__((always_inline)) T atan_series(T z) {
+  const T w = z * z, w2 = w * w, w4 = w2 * w2, w8 = w4 * w4;
   // a_k = (-1)^k / (2k + 1), as constants (a division by 3.0 would be a division instruction)
   constexpr double a1 = 1.0 / 3, a2 = 1.0 / 5, a3 = 1.0 / 7, a4 = 1.0 / 9, a5 = 1.0 / 11, a6 = 1.0 / 13, a7 = 1.0 / 15;
   constexpr double a8 = 1.0 / 17, a9 = 1.0 / 19, a10 = 1.0 / 21, a11 = 1.0 / 23, a12 = 1.0 / 25;
-  const double q0 = 1.0 - w * a1, q1 = a2 - w * a3, q2 = a4 - w * a5, q3 = a6 - w * a7;
-  const double q4 = a8 - w * a9, q5 = a10 - w * a11, q6 = a12;
-  const double r0 = q0 + q1 * w2, r1 = q2 + q3 * w2, r2 = q4 + q5 * w2;
-  const double p = (r0 + r1 * w4) + (r2 + q6 * w4) * w8;
-  return z * p;
+  const T q0 = 1.0 - w * a1, q1 = a2 - w * a3, q2 = a4 - w * a5, q3 = a6 - w * a7;
+  const T q4 = a8 - w * a9, q5 = a10 - w * a11;
+  const T r0 = q0 + q1 * w2, r1 = q2 + q3 * w2, r2 = q4 + q5 * w2;
+  return z * ((r0 + r1 * w4) + (r2 + a12 * w4) * w8);
 }
+
+// the series' range: within 14 degrees, in the right half-plane
+inline bool atan_series_holds(double s, double c) { return c > 0.0 && std::abs(s) <= 0.25 * c; }
+
+inline double atan2_small(double s, double c) { return atan_series_holds(s, c) ? atan_series(s / c) : std::atan2(s, c); }
 
 // The hinge's bend theta - theta0 from its rest angle, in (-pi, pi] [rad], given cos and sin of
 // theta0 (ShellElements::rest_cs), and its gradient grad[4] = d theta / d x_i [1/m].
@@ -139,10 +149,9 @@ inline void hinge_force(const ShellElements& sh, const Vec3* x, int h, Vec3* f) 
 // (x0 y0 + x1 y1) + x2 y2, its cross the textbook one; no FMA anywhere, -ffp-contract=off), and
 // the forces go to the particles lane by lane in element order, so both give the same bits
 // (tests/engine/step/shell_elastic_test.cpp). Square roots lane by lane (std::sqrt, exact).
-// The helpers below are always inlined into the passes (whose clones have AVX): their by-value
-// vector returns never cross a call, so GCC's note on the non-AVX calling convention is moot.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
+// The helpers below are always inlined into the passes (whose clones have AVX), as is
+// atan_series: their by-value vector returns never cross a call, so GCC's note on the non-AVX
+// calling convention (-Wpsabi, off for this file at its top) is moot.
 #define PS_LANES inline __attribute__((always_inline))
 typedef double D4 __attribute__((vector_size(32)));
 typedef long long L4 __attribute__((vector_size(32)));
@@ -166,7 +175,6 @@ PS_LANES V3 gather(const Vec3* x, const int* idx, int stride, int i) {
 }
 
 #undef PS_LANES
-#pragma GCC diagnostic pop
 
 }  // namespace
 
@@ -242,15 +250,9 @@ void add_shell_hinge_forces(const ShellElements& sh, const Vec3* x, int begin, i
     const D4 cos0 = D4{cs[0], cs[2], cs[4], cs[6]}, sin0 = D4{cs[1], cs[3], cs[5], cs[7]};
     const D4 sy = ys * cos0 - xs * sin0, cx = xs * cos0 + ys * sin0;
     // atan2_small in four lanes
-    const D4 z = sy / cx, w = z * z, w2 = w * w, w4 = w2 * w2, w8 = w4 * w4;
-    constexpr double a1c = 1.0 / 3, a2c = 1.0 / 5, a3c = 1.0 / 7, a4c = 1.0 / 9, a5c = 1.0 / 11, a6c = 1.0 / 13, a7c = 1.0 / 15;
-    constexpr double a8c = 1.0 / 17, a9c = 1.0 / 19, a10c = 1.0 / 21, a11c = 1.0 / 23, a12c = 1.0 / 25;
-    const D4 q0 = 1.0 - w * a1c, q1 = a2c - w * a3c, q2 = a4c - w * a5c, q3 = a6c - w * a7c;
-    const D4 q4 = a8c - w * a9c, q5 = a10c - w * a11c;
-    const D4 r0 = q0 + q1 * w2, r1 = q2 + q3 * w2, r2 = q4 + q5 * w2;
-    D4 bend = z * ((r0 + r1 * w4) + (r2 + a12c * w4) * w8);
+    D4 bend = atan_series(sy / cx);
     for (int l = 0; l < 4; ++l)
-      if (!(cx[l] > 0.0 && std::abs(sy[l]) <= 0.25 * cx[l])) bend[l] = std::atan2(sy[l], cx[l]);
+      if (!atan_series_holds(sy[l], cx[l])) bend[l] = std::atan2(sy[l], cx[l]);
     const D4 c = D4{sh.k_hinge[h], sh.k_hinge[h + 1], sh.k_hinge[h + 2], sh.k_hinge[h + 3]} * bend;  // dE/dtheta [N m]
     V3 g[4];
     for (int r = 0; r < 3; ++r) {

@@ -200,7 +200,6 @@ void Simulation::save(std::vector<uint8_t>& out) {
   StateIO io(out, StateIO::Save);
   serialize_state(state_, io);
   for (auto& t : tools_) t->serialize(io);
-  io.finish();
 }
 
 void Simulation::restore(const std::vector<uint8_t>& in) {

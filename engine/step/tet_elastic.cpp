@@ -250,7 +250,7 @@ void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, c
       e2[r] = D4{xp[2][0][r], xp[2][1][r], xp[2][2][r], xp[2][3][r]} - x0;
       e3[r] = D4{xp[3][0][r], xp[3][1][r], xp[3][2][r], xp[3][3][r]} - x0;
     }
-    const double* gb = te.g4.data() + 9 * k;  // packed: block k / 4
+    const double* gb = packed ? te.g4.data() + 9 * k : nullptr;  // block k / 4
     const double* gl[4] = {gg + 9 * id[0], gg + 9 * id[1], gg + 9 * id[2], gg + 9 * id[3]};
     #pragma GCC unroll 16
     for (int i = 0; i < 9; ++i) g[i] = packed ? *reinterpret_cast<const U4*>(gb + 4 * i) : D4{gl[0][i], gl[1][i], gl[2][i], gl[3][i]};
