@@ -26,6 +26,7 @@ int fast_error(const std::string& scene, int substeps, int mass_scaling, int tri
 int run_ticks(const std::string& file, int ticks);  // tick_mode.cpp
 int realtime_loop(double wall_s);                   // realtime_loop.cpp
 int speed_trace(const std::string& file, const std::string& script, int substeps, int mass_scaling);  // speed_trace.cpp
+int tick_trace(const std::string& file, const std::string& script, double window_ms);  // tick_trace.cpp
 
 // The shape-memory stage exactly as it was before the performance work (reference_shape_memory.cpp):
 // kept so one binary measures the speed-up and checks the optimised stage against it.

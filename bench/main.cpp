@@ -15,6 +15,8 @@
 //                                              (default 100000): no fault, finite, volumes held
 //   prostatesim_bench --speed-trace SCENARIO SCRIPT [SUBSTEPS [MASS_SCALING]]
 //                                              largest particle speed per 10 ms of a scripted run
+//   prostatesim_bench --tick-trace SCENARIO SCRIPT [WINDOW_MS]
+//                                              CPU time per tick over a scripted run, per window
 //   prostatesim_bench --realtime [WALL_S]      the real-time loop on each default scene with its
 //                                              script, WALL_S s each: tick rate, jitter, slow motion
 #include <benchmark/benchmark.h>
@@ -44,6 +46,8 @@ int main(int argc, char** argv) {
   if (argc >= 2 && std::strcmp(argv[1], "--realtime") == 0) return ps::bench::realtime_loop(argc >= 3 ? std::atof(argv[2]) : 20.0);
   if (argc >= 4 && std::strcmp(argv[1], "--speed-trace") == 0)
     return ps::bench::speed_trace(argv[2], argv[3], argc >= 5 ? std::atoi(argv[4]) : 0, argc >= 6 ? std::atoi(argv[5]) : -1);
+  if (argc >= 4 && std::strcmp(argv[1], "--tick-trace") == 0)
+    return ps::bench::tick_trace(argv[2], argv[3], argc >= 5 ? std::atof(argv[4]) : 250.0);
   if (argc >= 4 && std::strcmp(argv[1], "--ticks") == 0) return ps::bench::run_ticks(argv[2], std::atoi(argv[3]));
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

@@ -158,6 +158,16 @@ struct TetElements {
   std::vector<int> node_elem_start;  // [nodes + 1]
   std::vector<int> node_elem;        // [4 nt] element indices
   std::vector<int> node_elem_mid;    // [nodes]
+  // The same lists as the node volumes gather them, four nodes at a time (bundle b: nodes 4b ..
+  // 4b + 3), for each range r (0: all elements, 1: the fast group, 2: the slow group): row j of
+  // bundle b holds each of its four nodes' j-th element of the range, ascending, padded past a
+  // node's last one with element nt, whose slot of State::tet_quarter holds -0.0 (x + -0.0 == x
+  // exactly, for every x, so padding changes no bit); rows gather_start[r][b] ..
+  // gather_start[r][b + 1], 4 entries each. Four nodes' sums run side by side instead of one
+  // node's chain of dependent additions at a time.
+  std::vector<int> gather_start[3];  // [bundles + 1] rows
+  std::vector<int> gather_elem[3];   // [4 rows] element indices
+  int gather_ranges() const { return gather_start[0].empty() ? 0 : 3; }
   std::vector<int> nodes;          // particles touched by some element, ascending
   std::vector<double> node_inv_vol0;  // [nodes] 1 / (sum of V0/4 over the node's elements) [1/m^3]
   std::vector<double> node_kappa;  // [nodes] volumetric modulus lambda + mu of the node's particle [Pa]

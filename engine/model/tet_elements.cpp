@@ -169,6 +169,26 @@ void pack_tet_blocks(TetElements& te) {
     while (e < te.node_elem_start[a + 1] && te.node_elem[e] < te.fast_count) ++e;
     te.node_elem_mid[a] = e;
   }
+  // the bundles of four nodes (TetElements::gather_*)
+  const int bundles = (nn + 3) / 4;
+  for (int r = 0; r < 3; ++r) {
+    te.gather_start[r].assign(1, 0);
+    te.gather_elem[r].clear();
+    for (int b = 0; b < bundles; ++b) {
+      int lo[4], len[4], rows = 0;
+      for (int l = 0; l < 4; ++l) {
+        const int a = 4 * b + l;
+        lo[l] = len[l] = 0;
+        if (a >= nn) continue;
+        lo[l] = r == 2 ? te.node_elem_mid[a] : te.node_elem_start[a];
+        len[l] = (r == 1 ? te.node_elem_mid[a] : te.node_elem_start[a + 1]) - lo[l];
+        rows = std::max(rows, len[l]);
+      }
+      for (int j = 0; j < rows; ++j)
+        for (int l = 0; l < 4; ++l) te.gather_elem[r].push_back(j < len[l] ? te.node_elem[lo[l] + j] : nt);
+      te.gather_start[r].push_back(te.gather_start[r].back() + rows);
+    }
+  }
 }
 
 }  // namespace ps

@@ -53,7 +53,7 @@ struct State {
                                         // the cluster's F at the last substep (warm start)
   std::vector<double> tet_node_vol;     // [Model::tets.nodes] scratch: current volume share of each
                                         // tet node, then its pressure kappa (J_n - 1) [m^3] / [Pa]
-  std::vector<double> tet_quarter;      // [Model::tets elements] scratch: each element's volume share
+  std::vector<double> tet_quarter;      // [Model::tets elements + 1] scratch: each element's volume share
                                         // V_t / 4 [m^3] (the node volumes gather them, tet_elastic.cpp)
   std::vector<double> tet_slow_vol;     // [Model::tets.nodes] multi-rate scratch: volume share of the
                                         // slow elements at the tick's first substep [m^3]

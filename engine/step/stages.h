@@ -61,7 +61,8 @@ void add_tet_node_volumes(const TetElements& te, const Vec3* x, const int* list,
 // tet_elastic.cpp: q[t] = V_t / 4 of the elements [begin, end) [m^3] (the node volumes gather them)
 void tet_quarters(const TetElements& te, const Vec3* x, int begin, int end, double* q);
 // tet_elastic.cpp: adds the volume shares of the elements [begin, end) to vol [m^3], gathered per
-// node when the range is the fast group, the slow group or all (q: [nt] scratch), else scattered;
+// node when the range is the fast group, the slow group or all (q: [nt + 1] scratch, q[nt] = -0.0,
+// the gather's padding), else scattered;
 // the same bits as add_tet_node_volumes over the same elements
 void add_tet_range_volumes(const TetElements& te, const Vec3* x, int begin, int end, double* q, double* vol);
 // tet_elastic.cpp: node volume shares vol [m^3] -> node pressures kappa (J_n - 1) [Pa], in place

@@ -101,29 +101,38 @@ void tet_quarters(const TetElements& te, const Vec3* x, int begin, int end, doub
 
 // The volume shares of the elements [begin, end) added to vol, gathered per node when the range is the
 // fast group, the slow group or all of them (TetElements::node_elem): each element's share into q
-// (State::tet_quarter, [nt] scratch), then each node's sum over its elements in element order:
+// (State::tet_quarter, [nt + 1] scratch), then each node's sum over its elements in element order:
 // the same additions in the same order as the scatter, so the same bits, but a node's running sum
 // stays in a register instead of going through memory once per element (the scatter's adds into
 // a shared node form a chain of stores and reloads). Other ranges, or no q: the scatter.
 void add_tet_range_volumes(const TetElements& te, const Vec3* x, int begin, int end, double* q, double* vol) {
   const int nt = te.count(), nf = te.fast_count;
   const int nn = static_cast<int>(te.nodes.size());
-  const bool lists = q && te.node_elem_start.size() == static_cast<size_t>(nn) + 1;
+  const bool lists = q && te.gather_ranges() == 3;
   const int which = !lists ? -1 : (begin == 0 && end == nt) ? 0 : (begin == 0 && end == nf) ? 1 : (begin == nf && end == nt) ? 2 : -1;
   if (which < 0) {
     add_volume_shares(te, x, nullptr, begin, end, vol);
     return;
   }
   tet_quarters(te, x, begin, end, q);
-  const int* start = te.node_elem_start.data();
-  const int* mid = te.node_elem_mid.data();
-  const int* ne = te.node_elem.data();
-  for (int a = 0; a < nn; ++a) {
-    const int lo = which == 2 ? mid[a] : start[a];
-    const int hi = which == 1 ? mid[a] : start[a + 1];
-    double sum = vol[a];
-    for (int e = lo; e < hi; ++e) sum += q[ne[e]];
-    vol[a] = sum;
+  // four nodes at a time (TetElements::gather_elem): four independent running sums
+  const int* bs = te.gather_start[which].data();
+  const int* ge = te.gather_elem[which].data();
+  for (int b = 0, nb = (nn + 3) / 4; b < nb; ++b) {
+    const int lanes = std::min(4, nn - 4 * b);
+    double* v = vol + 4 * b;
+    double s0 = v[0], s1 = lanes > 1 ? v[1] : 0.0, s2 = lanes > 2 ? v[2] : 0.0, s3 = lanes > 3 ? v[3] : 0.0;
+    for (int j = bs[b]; j < bs[b + 1]; ++j) {
+      const int* e = ge + 4 * j;
+      s0 += q[e[0]];
+      s1 += q[e[1]];
+      s2 += q[e[2]];
+      s3 += q[e[3]];
+    }
+    v[0] = s0;
+    if (lanes > 1) v[1] = s1;
+    if (lanes > 2) v[2] = s2;
+    if (lanes > 3) v[3] = s3;
   }
 }
 
@@ -324,7 +333,7 @@ void slow_force_now(const Model& m, State& s) {
   const int nn = static_cast<int>(te.nodes.size());
   double* vs = s.tet_slow_vol.data();
   double* p = s.tet_node_vol.data();
-  double* q = s.tet_quarter.size() >= static_cast<size_t>(nt) ? s.tet_quarter.data() : nullptr;
+  double* q = s.tet_quarter.size() > static_cast<size_t>(nt) ? s.tet_quarter.data() : nullptr;  // with its -0.0 slot
   for (int a = 0; a < nn; ++a) vs[a] = 0.0;
   add_node_volumes(te, s.x, nf, nt, q, vs);
   for (int a = 0; a < nn; ++a) p[a] = vs[a];
@@ -382,7 +391,7 @@ void add_tet_elastic_forces(const Model& m, State& s, TetPass pass, int substeps
     return;
   }
   const bool split = te.multirate() && pass != TetPass::All;
-  double* q = s.tet_quarter.size() >= static_cast<size_t>(nt) ? s.tet_quarter.data() : nullptr;
+  double* q = s.tet_quarter.size() > static_cast<size_t>(nt) ? s.tet_quarter.data() : nullptr;  // with its -0.0 slot
   if (!split) {
     node_volumes(te, s.x, q, p);
   } else {

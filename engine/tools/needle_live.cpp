@@ -21,6 +21,29 @@ void anchor_io(AffineAnchor& a, StateIO& io) {
   io.pod(a.rotational);
 }
 
+// anchor_io over a whole array, the same bytes in one span (StateIO::span): a needle has an
+// anchor per node, and the app saves the state before every tick
+void anchors_io(std::vector<AffineAnchor>& v, StateIO& io) {
+  constexpr size_t kCount = sizeof(AffineAnchor::count), kIdx = sizeof(AffineAnchor::idx), kW = sizeof(AffineAnchor::w);
+  constexpr size_t kOffset = 3 * sizeof(double), kRot = sizeof(AffineAnchor::rotational);
+  constexpr size_t kEach = kCount + kIdx + kW + kOffset + kRot;
+  static_assert(sizeof(Vec3) == kOffset);
+  uint8_t* p = io.span(kEach * v.size());
+  const bool save = io.saving();
+  auto field = [&](void* f, size_t n) {
+    if (save) std::memcpy(p, f, n);
+    else std::memcpy(f, p, n);
+    p += n;
+  };
+  for (AffineAnchor& a : v) {
+    field(&a.count, kCount);
+    field(a.idx.data(), kIdx);
+    field(a.w.data(), kW);
+    field(a.offset.data(), kOffset);
+    field(&a.rotational, kRot);
+  }
+}
+
 void readout_io(NeedleReadout& r, StateIO& io) {
   io.vec(r.tip);
   io.vec(r.direction);
@@ -221,7 +244,7 @@ void NeedleTool::serialize(StateIO& io) {
     io.pod(nd.in_lumen);
     io.pod(nd.exit_a);
     io.vec(nd.exit_point);
-    for (AffineAnchor& a : nd.anchors) anchor_io(a, io);
+    anchors_io(nd.anchors, io);
     io.array(nd.anchor_c);
     io.array(nd.anchor_csum);
     io.array(nd.stick_scale);

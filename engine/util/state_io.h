@@ -54,6 +54,20 @@ class StateIO {
       pos_ += n;
     }
   }
+  // The next n bytes, to be filled (Save) or read (Restore) by the caller: for a long run of
+  // small fields (a needle's anchors), copied at fixed offsets from one pointer instead of one
+  // bytes() call each, whose bounds check and position update the compiler cannot hoist (a byte
+  // store may alias the buffer's own pointers). The same bytes as the fields' bytes() calls.
+  uint8_t* span(size_t n) {
+    if (mode_ == Save) {
+      if (pos_ + n > buf_.size()) buf_.resize(std::max(pos_ + n, 2 * buf_.size()));
+    } else if (pos_ + n > buf_.size()) {
+      throw std::runtime_error("StateIO: saved state is shorter than this simulation's");
+    }
+    uint8_t* p = buf_.data() + pos_;
+    pos_ += n;
+    return p;
+  }
   void vec(Vec3& v) { bytes(v.data(), 3 * sizeof(double)); }
   void quat(Quat& q) { bytes(q.coeffs().data(), 4 * sizeof(double)); }
   // a vector of trivially copyable values: its length is part of the state (checked on restore

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "engine/model/material.h"
@@ -120,8 +121,10 @@ TEST(TetElasticForce, BlockedRangesEqualTheScalarPassBitForBit) {
 
 TEST(TetElasticForce, GatheredNodeVolumesEqualTheScatterBitForBit) {
   // the node volumes of the fast group, the slow group and all elements are summed per node over
-  // its element list (TetElements::node_elem) in element order: the scatter's additions in the
-  // scatter's order, so the same bits; another range falls back to the scatter
+  // its element list in element order, four nodes side by side (TetElements::gather_elem, padded
+  // with -0.0): the scatter's additions in the scatter's order, so the same bits; another range
+  // falls back to the scatter. Negative zeros and exact cancellations included: the padding must
+  // leave every bit, the sign of a zero too.
   auto m = test::compile_text(kCylinderYaml);
   TetElements te = m->tets;
   const int nt = te.count(), nn = static_cast<int>(te.nodes.size());
@@ -132,7 +135,7 @@ TEST(TetElasticForce, GatheredNodeVolumesEqualTheScatterBitForBit) {
   std::mt19937 rng(7);
   std::normal_distribution<double> N(0.0, 0.8e-3);
   for (int p = 0; p < m->particle_count(); ++p) s.x[p] = m->rest_pos[p] + Vec3(N(rng), N(rng), N(rng));
-  std::vector<double> q(nt, 0.0);
+  std::vector<double> q(nt + 1, -0.0);  // the last: the gather's padding
   tet_quarters(te, s.x.data(), 0, nt, q.data());
   for (int t = 0; t < nt; ++t) {
     const int* v = &te.v[4 * t];
@@ -142,13 +145,15 @@ TEST(TetElasticForce, GatheredNodeVolumesEqualTheScatterBitForBit) {
   const int nf = te.fast_count;
   for (const auto& [begin, end] : {std::pair{0, nf}, {nf, nt}, {0, nt}, {1, nt}}) {
     std::vector<double> gathered(nn), scattered(nn);
-    for (int a = 0; a < nn; ++a) gathered[a] = scattered[a] = 1e-7 * (a % 5);  // a held part first, as the step has
+    // a held part first, as the step has; -0.0 where it is zero, which padding with +0.0 would turn
+    // into +0.0 on a node that has no element in the range
+    for (int a = 0; a < nn; ++a) gathered[a] = scattered[a] = a % 5 == 0 ? -0.0 : 1e-7 * (a % 5);
     add_tet_range_volumes(te, s.x.data(), begin, end, q.data(), gathered.data());
     std::vector<int> list;
     for (int t = begin; t < end; ++t) list.push_back(t);
     add_tet_node_volumes(te, s.x.data(), list.data(), end - begin, scattered.data());
     int differing = 0;
-    for (int a = 0; a < nn; ++a) differing += gathered[a] != scattered[a];
+    for (int a = 0; a < nn; ++a) differing += std::memcmp(&gathered[a], &scattered[a], sizeof(double)) != 0;  // every bit
     EXPECT_EQ(differing, 0) << "elements [" << begin << ", " << end << ")";
   }
 }
