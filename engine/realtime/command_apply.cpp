@@ -33,11 +33,12 @@ bool CommandApplier::apply(const Command& c, int64_t tick) {
     return false;
   }
   ++applied_;
-  if (observer_) {
+  if (observer_ || log_) {
     Command done = c;
     done.tick = tick;
     done.tool = static_cast<int16_t>(target);
-    observer_->applied(done);
+    if (log_) log_->applied(done);
+    if (observer_) observer_->applied(done);
   }
   return true;
 }

@@ -78,6 +78,8 @@ class CommandApplier {
   int apply_due(CommandQueue& q, int64_t tick, bool* complete = nullptr);
 
   void set_observer(CommandObserver* o) { observer_ = o; }
+  // A second observer, for the runner's own use (TickRunner's recovery log); called first.
+  void set_log(CommandObserver* o) { log_ = o; }
   int64_t applied() const { return applied_; }
   int64_t late() const { return late_; }
   int64_t refused() const { return refused_; }
@@ -86,6 +88,7 @@ class CommandApplier {
  private:
   Simulation& sim_;
   CommandObserver* observer_ = nullptr;
+  CommandObserver* log_ = nullptr;
   int64_t applied_ = 0, late_ = 0, refused_ = 0;
   RefusalRing refusals_;
 };

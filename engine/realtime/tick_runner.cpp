@@ -19,29 +19,55 @@ TickRunner::TickRunner(Simulation& sim, size_t queue_capacity)
 void TickRunner::keep_last_good(bool on) {
   keep_good_ = on;
   if (on) {
-    sim_.save(good_);  // sized once here; later saves reuse the capacity
-    good_tick_ = tick_;
-    good_time_ = sim_.state().time;
+    log_.cmds.reserve(kLogCapacity);
+    applier_.set_log(&log_);
+    take_checkpoint();  // sized once here; later checkpoints reuse the capacity
+  } else {
+    applier_.set_log(nullptr);
   }
 }
 
-bool TickRunner::last_good(SavedState& out) const {
+void TickRunner::take_checkpoint() {
+  sim_.save(checkpoint_);
+  checkpoint_tick_ = tick_;
+  log_.cmds.clear();
+  log_.full = false;
+}
+
+bool TickRunner::last_good(SavedState& out) {
   if (!keep_good_) return false;
-  out.bytes = good_;
-  out.tick = good_tick_;
-  out.time = good_time_;
-  out.state_hash = saved_state_hash(good_);
+  double time = sim_.state().time;
+  if (!faulted_ && !in_step_) {
+    sim_.save(out.bytes);  // between ticks: the current state is the one before tick_
+  } else {
+    // the state after tick_ ticks, before tick_'s commands: from the checkpoint, the same
+    // commands at the same ticks, the same bits; then the faulted state is put back
+    std::vector<uint8_t> now;
+    sim_.save(now);
+    sim_.restore(checkpoint_);
+    CommandApplier again(sim_);  // no observer: the recorder has these commands already
+    size_t k = 0;
+    const std::vector<Command>& log = log_.cmds;
+    for (int64_t t = checkpoint_tick_; t < tick_; ++t) {
+      for (; k < log.size() && log[k].tick <= t; ++k) again.apply(log[k], t);
+      if (!sim_.tick()) break;  // these ticks ran clean before: not reached
+    }
+    sim_.save(out.bytes);
+    time = sim_.state().time;
+    sim_.restore(now);
+  }
+  out.tick = tick_;
+  out.time = time;
+  out.state_hash = saved_state_hash(out.bytes);
   out.fault = fault_text_.empty() ? "none" : fault_text_;
   return true;
 }
 
 bool TickRunner::step(StageProbe* probe) {
   if (faulted_) return false;
-  if (keep_good_) {  // before the commands: the state after tick_ ticks (state_file.h); loaded and run on, the same bits
-    sim_.save(good_);
-    good_tick_ = tick_;
-    good_time_ = sim_.state().time;
-  }
+  // a checkpoint before the commands: the state after tick_ ticks (state_file.h)
+  if (keep_good_ && (tick_ - checkpoint_tick_ >= kCheckpointTicks || log_.full)) take_checkpoint();
+  in_step_ = true;
   for (CommandSource* s : sources_) s->poll(tick_, sim_, applier_);
   applier_.apply_due(queue_, tick_);
   if (tick_ == inject_tick_) {  // once: a reset after the fault runs on clean
@@ -66,6 +92,7 @@ bool TickRunner::step(StageProbe* probe) {
       fault_text_ = head + f.describe(m);
     }
   }
+  in_step_ = false;
   if (!ok) {
     faulted_ = true;
     return false;
@@ -116,6 +143,7 @@ void TickRunner::reset() {
   hash_tick_ = -1;  // a hash under way belonged to the run that is gone
   tick_ = 0;
   faulted_ = false;
+  in_step_ = false;
   fault_text_.clear();
   if (keep_good_) keep_last_good(true);
   Command c;
@@ -147,6 +175,7 @@ void TickRunner::load_state(const SavedState& st) {
   tick_ = st.tick;
   hash_tick_ = -1;
   faulted_ = false;
+  in_step_ = false;
   fault_text_.clear();
   Command c;
   while (queue_.pop(c)) {

@@ -10,8 +10,13 @@
 // Recovery (issue 14): a fault (the step's own NaN / speed / excursion check, or the optional
 // Watchdog after each tick: energy growth, volume drift, a particle leaving the scene) stops the
 // runner; fault_text() names the tick, time, kind and particle. With keep_last_good(true) the
-// state before the faulting tick is kept (one save() per tick into a reused buffer), so it can be
-// written to a file (engine/realtime/state_file.h) and reset() goes back to the start.
+// state before the faulting tick can be had (last_good()), so it can be written to a file
+// (engine/realtime/state_file.h), and reset() goes back to the start. It is not saved before
+// every tick (a whole state, ~1.2 MB and ~50 us in a default scene, every tick): the runner keeps
+// a checkpoint every kCheckpointTicks ticks and the commands applied since, and on a fault
+// rebuilds the state before the faulting tick by running on from the checkpoint with the same
+// commands: the same bits (the run is deterministic in its (tick, command) pairs; tested), at
+// the cost of at most kCheckpointTicks ticks once, after the fault.
 // Periodic state hashes: with set_hash_observer(o, n) the runner hands o the full state hash
 // after every n-th tick (recordings carry them; replay checks them and names the first tick that
 // diverges); the real-time loop spreads each over the ticks after it (spread_hashes), so no tick
@@ -86,11 +91,15 @@ class TickRunner {
   // --- recovery ---
   // Checked after every tick (must outlive the runner; null: none). A finding is a fault.
   void set_watchdog(const Watchdog* w) { watchdog_ = w; }
-  // Keep the state before each tick (the last good state when the tick faults).
+  // Keep what it takes to give the state before each tick (the last good state when the tick
+  // faults): a checkpoint now, then one every kCheckpointTicks ticks, and the applied commands.
   void keep_last_good(bool on);
-  // The state before the tick that faulted (or before the current tick when not faulted).
-  // False when keep_last_good is off. Fills bytes, tick, time and the state hash.
-  bool last_good(SavedState& out) const;
+  // The state before the tick that faulted, or that threw (or the current state when neither).
+  // False when keep_last_good is off. Fills bytes, tick, time and the state hash. After a fault
+  // this re-runs the ticks since the last checkpoint (and allocates): not on the physics path.
+  bool last_good(SavedState& out);
+  static constexpr int kCheckpointTicks = 100;
+  static constexpr size_t kLogCapacity = 4096;  // commands between checkpoints (more: an early checkpoint)
   // "tick 1234: t=1.234 s: particle 17 (component 'prostate') position or velocity is NaN/Inf"
   // or "tick 1234: watchdog: energy growth at t=..., particle ..." ("" when not faulted)
   const std::string& fault_text() const { return fault_text_; }
@@ -138,9 +147,22 @@ class TickRunner {
   int64_t refusal_cursor_ = 0;
   const Watchdog* watchdog_ = nullptr;
   bool keep_good_ = false;
-  std::vector<uint8_t> good_;      // save() before the current / faulting tick
-  int64_t good_tick_ = 0;
-  double good_time_ = 0.0;
+  // recovery (keep_last_good): the state after checkpoint_tick_ ticks, before that tick's
+  // commands, and every command applied since, stamped with its tick (at most kLogCapacity: a
+  // full log takes a checkpoint at the next tick's start; the ticks a rebuild needs are all in it)
+  struct CommandLog final : CommandObserver {
+    std::vector<Command> cmds;  // capacity reserved: no allocation on the physics thread
+    void applied(const Command& c) override {
+      if (cmds.size() < cmds.capacity()) cmds.push_back(c);
+      else full = true;
+    }
+    bool full = false;
+  };
+  std::vector<uint8_t> checkpoint_;
+  int64_t checkpoint_tick_ = 0;
+  CommandLog log_;
+  bool in_step_ = false;  // step() began and did not return (an exception left it mid-tick)
+  void take_checkpoint();
   std::string fault_text_;
   int64_t inject_tick_ = -1;
   int inject_particle_ = 0;

@@ -89,6 +89,81 @@ TEST(Recovery, InjectedNaNStopsTheRunnerAndTheLastGoodStateIsTheTickBefore) {
   EXPECT_EQ(run.hash(), clean_hash(200));
 }
 
+// A source that applies `per_tick` bladder filling commands before every tick up to `until`:
+// more commands between two checkpoints than the runner's log holds (TickRunner::kLogCapacity),
+// so the runner takes checkpoints early.
+class FloodSource final : public CommandSource {
+ public:
+  FloodSource(int component, int per_tick, int64_t until) : component_(component), per_tick_(per_tick), until_(until) {}
+  void poll(int64_t tick, const Simulation&, CommandApplier& apply) override {
+    if (tick >= until_) return;
+    for (int i = 0; i < per_tick_; ++i) {
+      Command c;
+      c.kind = CommandKind::FillRate;
+      c.component = component_;
+      c.value = (50.0 + (tick + i) % 7) * 1e-6;  // [m^3/s]; the last one of a tick holds
+      apply.apply(c, tick);
+    }
+  }
+
+ private:
+  int component_, per_tick_;
+  int64_t until_;
+};
+
+// The last good state is not saved before every tick: the runner keeps a checkpoint every
+// kCheckpointTicks ticks and the commands applied since, and rebuilds it on a fault. Faults just
+// before, at and after a checkpoint, after the script's commands, with a log that overflowed
+// (early checkpoints), and an exception thrown mid-tick: each time the rebuilt state is the
+// clean run's state at that tick, bit for bit, and the faulted state is left as it was.
+TEST(Recovery, TheLastGoodStateIsRebuiltFromACheckpointBitForBit) {
+  const Script script = parse_script_text(test::live_script_yaml(), "live.yaml");
+  auto bladder = [](const Scene& sc) { return sc.model->find_component("bladder"); };
+  struct Case {
+    int64_t tick;
+    bool internal;
+  };
+  for (const Case c : {Case{1, false}, Case{99, false}, Case{100, false}, Case{101, false}, Case{130, true}, Case{262, false}}) {
+    // the clean run, no recovery kept
+    Scene ref = test::make_live_scene();
+    ASSERT_GE(bladder(ref), 0);
+    CommandPlayer ref_player(script_commands(script, ref));
+    FloodSource ref_flood(bladder(ref), 60, 150);
+    LockstepRunner clean(*ref.sim);
+    clean.add_source(&ref_player);
+    clean.add_source(&ref_flood);
+    ASSERT_TRUE(clean.advance_to(c.tick));
+    const uint64_t want = clean.hash();
+
+    Scene sc = test::make_live_scene();
+    CommandPlayer player(script_commands(script, sc));
+    FloodSource flood(bladder(sc), 60, 150);
+    LockstepRunner run(*sc.sim);
+    run.add_source(&player);
+    run.add_source(&flood);
+    run.runner().keep_last_good(true);
+    run.runner().inject_fault(c.tick, 5, c.internal);
+    bool threw = false;
+    try {
+      EXPECT_FALSE(run.advance_to(c.tick + 50)) << "tick " << c.tick;
+    } catch (const std::logic_error&) {
+      threw = true;
+    }
+    EXPECT_EQ(threw, c.internal) << "tick " << c.tick;
+    EXPECT_EQ(run.tick(), c.tick);
+    std::vector<uint8_t> faulted;
+    sc.sim->save(faulted);
+    SavedState good;
+    ASSERT_TRUE(run.runner().last_good(good));
+    EXPECT_EQ(good.tick, c.tick);
+    EXPECT_NEAR(good.time, c.tick * sc.model->dt, 1e-12);
+    EXPECT_EQ(good.state_hash, want) << "fault at tick " << c.tick;
+    std::vector<uint8_t> after;
+    sc.sim->save(after);
+    EXPECT_TRUE(after == faulted) << "the faulted state changed, tick " << c.tick;
+  }
+}
+
 TEST(Recovery, ThreadedLoopStopsShowsTheFaultSavesAndResets) {
   Scene sc = test::make_live_scene();
   LoopOptions o;
