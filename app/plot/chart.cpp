@@ -237,9 +237,48 @@ Canvas render(const Chart& chart, int width, int height) {
     int lw = 0;
     for (const Series* s : listed) lw = std::max(lw, Canvas::text_width(s->label, ts));
     const int bw = sample + 3 * pad / 2 + lw + pad, bh = static_cast<int>(listed.size()) * row + pad;
-    const bool l = chart.legend == LegendPos::TopLeft || chart.legend == LegendPos::BottomLeft;
-    const bool t = chart.legend == LegendPos::TopLeft || chart.legend == LegendPos::TopRight;
-    const int bx = l ? left + pad : right - pad - bw, by = t ? top + pad : bottom - pad - bh;
+    auto box = [&](LegendPos pos, int& bx, int& by) {
+      const bool l = pos == LegendPos::TopLeft || pos == LegendPos::BottomLeft;
+      const bool t = pos == LegendPos::TopLeft || pos == LegendPos::TopRight;
+      bx = l ? left + pad : right - pad - bw;
+      by = t ? top + pad : bottom - pad - bh;
+    };
+    LegendPos pos = chart.legend;
+    if (pos == LegendPos::Best) {
+      // how much of the data each corner's box would hide: markers, and points every few pixels
+      // along the lines (a marker's half size around the box counts as under it)
+      int fewest = -1;
+      for (LegendPos c : {LegendPos::TopRight, LegendPos::TopLeft, LegendPos::BottomRight, LegendPos::BottomLeft}) {
+        int bx = 0, by = 0;
+        box(c, bx, by);
+        int hidden = 0;
+        for (const Series& s : chart.series) {
+          const double m = s.marker == Marker::None ? s.line_width : s.marker_size / 2;
+          auto under = [&](double x, double y) { return x >= bx - m && x <= bx + bw + m && y >= by - m && y <= by + bh + m; };
+          const size_t n = std::min(s.x.size(), s.y.size());
+          bool have = false;
+          double lx = 0, ly = 0;
+          for (size_t i = 0; i < n; ++i) {
+            if (!(usable(s.x[i], chart.x.log) && usable(s.y[i], chart.y.log))) { have = false; continue; }
+            const double x = px(s.x[i]), y = py(s.y[i]);
+            hidden += under(x, y) ? 10 : 0;  // a marker or a vertex weighs more than a stretch of line
+            if (s.line && have) {
+              const int steps = std::max(1, static_cast<int>(std::hypot(x - lx, y - ly) / (4.0 * ts)));
+              for (int k = 1; k < steps; ++k) hidden += under(lx + (x - lx) * k / steps, ly + (y - ly) * k / steps);
+            }
+            lx = x;
+            ly = y;
+            have = true;
+          }
+        }
+        if (fewest < 0 || hidden < fewest) {
+          fewest = hidden;
+          pos = c;
+        }
+      }
+    }
+    int bx = 0, by = 0;
+    box(pos, bx, by);
     cv.fill_rect(bx, by, bx + bw, by + bh, {255, 255, 255});
     cv.rect_outline(bx, by, bx + bw, by + bh, {160, 160, 160});
     for (size_t k = 0; k < listed.size(); ++k) {

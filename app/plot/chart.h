@@ -28,13 +28,15 @@ struct Axis {
   double min = NAN, max = NAN; // NaN: fit the data
 };
 
-enum class LegendPos { TopRight, TopLeft, BottomRight, BottomLeft, None };
+// Best: the corner whose legend box would cover the fewest of the data (markers, and points along
+// the lines), the top right on a tie.
+enum class LegendPos { TopRight, TopLeft, BottomRight, BottomLeft, None, Best };
 
 struct Chart {
   std::string title;
   Axis x, y;
   std::vector<Series> series;
-  LegendPos legend = LegendPos::TopRight;
+  LegendPos legend = LegendPos::Best;
   bool grid = true;
 };
 

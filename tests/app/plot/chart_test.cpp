@@ -87,6 +87,40 @@ TEST(PlotChart, PointsLandWhereTheAxesSay) {
   EXPECT_NEAR(sy / n, 240, 40);
 }
 
+// LegendPos::Best (the default) puts the legend in the corner where it hides the least data. With
+// points in both top corners and a line along the bottom right, only the bottom left is clear.
+TEST(PlotChart, TheBestLegendCornerHidesNoData) {
+  Chart c;
+  c.x = {"x", false, 0, 10};
+  c.y = {"y", false, 0, 10};
+  Series pts;
+  pts.label = "points in the top corners";
+  pts.x = {9.5, 9.0, 0.5, 1.0};
+  pts.y = {9.5, 9.0, 9.5, 9.0};
+  pts.line = false;
+  pts.marker = Marker::Square;
+  pts.color = {214, 39, 40};
+  Series line;
+  line.label = "a line along the bottom right";
+  line.x = {5, 10};
+  line.y = {0.5, 0.5};
+  line.color = {31, 119, 180};
+  c.series = {pts, line};
+  const Canvas best = render(c, 640, 480);
+  int hidden = 0;  // red pixels with the best corner: every marker shows
+  for (int y = 0; y < best.height(); ++y)
+    for (int x = 0; x < best.width(); ++x) hidden += is_color(best.at(x, y), pts.color, 10);
+  c.legend = LegendPos::BottomLeft;
+  const Canvas bottom_left = render(c, 640, 480);
+  EXPECT_TRUE(best.pixels() == bottom_left.pixels()) << "the legend went elsewhere than the one clear corner";
+  c.legend = LegendPos::TopRight;  // where it used to go: over two of the points
+  const Canvas top_right = render(c, 640, 480);
+  int shown = 0;  // red pixels with the legend top right
+  for (int y = 0; y < top_right.height(); ++y)
+    for (int x = 0; x < top_right.width(); ++x) shown += is_color(top_right.at(x, y), pts.color, 10);
+  EXPECT_LT(shown, hidden);  // the fixed corner hid some of the markers
+}
+
 TEST(PlotChart, LogAxisSkipsNonPositiveAndNonFinitePoints) {
   Chart c;
   c.x.log = true;

@@ -5,13 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <ctime>
 #include <map>
 #include <random>
 
 #include "engine/mesh/mesh_check.h"
 #include "engine/mesh/mesh_import.h"
-#include "tests/time_budget.h"
 
 namespace ps {
 namespace {
@@ -161,15 +159,10 @@ TEST(MeshQuery, RejectsBadMeshes) {
   EXPECT_THROW(MeshQuery{t}, std::invalid_argument);
 }
 
-double cpu_seconds() {
-  timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-// CPU time of 100k inside() and 100k distance() calls at points spread uniformly over 1.5x the
-// bounding box (CPU rather than wall time: the test machines are shared).
-std::pair<double, double> time_queries(const TriMesh& m, int* inside_count) {
+// 100k inside() and 100k distance() calls at points spread uniformly over 1.5x the bounding box:
+// how many are inside, and every distance finite and not negative. (Their speed is a benchmark,
+// not a test: `prostatesim_bench --benchmark_filter=BM_MeshQuery`, bench/mesh_query_bench.cpp.)
+int count_inside(const TriMesh& m) {
   const MeshQuery q(m);
   Vec3 lo = m.vertices[0], hi = lo;
   for (const Vec3& v : m.vertices) {
@@ -178,42 +171,27 @@ std::pair<double, double> time_queries(const TriMesh& m, int* inside_count) {
   }
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-0.75, 0.75);
-  std::vector<Vec3> pts(100000);
-  for (Vec3& p : pts) p = 0.5 * (lo + hi) + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(hi - lo);
-  double t0 = cpu_seconds();
-  int inside = 0;
-  for (const Vec3& p : pts) inside += q.inside(p);
-  const double t_inside = cpu_seconds() - t0;
-  t0 = cpu_seconds();
-  double sum = 0;
-  for (const Vec3& p : pts) sum += q.distance(p);
-  const double t_dist = cpu_seconds() - t0;
-  EXPECT_GT(sum, 0);
-  *inside_count = inside;
-  return {t_inside, t_dist};
+  int inside = 0, bad = 0;
+  for (int i = 0; i < 100000; ++i) {
+    const Vec3 p = 0.5 * (lo + hi) + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(hi - lo);
+    inside += q.inside(p);
+    const double d = q.distance(p);
+    bad += !(std::isfinite(d) && d >= 0.0);
+  }
+  EXPECT_EQ(bad, 0);
+  return inside;
 }
 
-TEST(MeshQuery, HundredThousandQueriesAreFast) {
+TEST(MeshQuery, HundredThousandQueriesOverASphereAndThePhantom) {
   const double R = 0.025;
-  int inside = 0;
-  // A round sphere is the worst case for distance: deep inside, every patch is nearly equidistant.
-  const auto [s_in, s_dist] = time_queries(icosphere(R, 5), &inside);   // 20480 triangles
   // Fraction of the cube [-1.5R, 1.5R]^3 inside the sphere: (4/3 pi) / 27 = 0.155.
-  EXPECT_NEAR(inside / 1e5, 4.0 / 3.0 * std::acos(-1.0) / 27.0, 0.01);
+  EXPECT_NEAR(count_inside(icosphere(R, 5)) / 1e5, 4.0 / 3.0 * std::acos(-1.0) / 27.0, 0.01);  // 20480 triangles
   MeshImportOptions opt;
   opt.units = "mm";
   const TriMesh phantom = import_mesh(std::string(PROSTATESIM_SHARED_DATA) + "/prostate_phantom/prostate.stl", opt);
-  const auto [p_in, p_dist] = time_queries(phantom, &inside);   // 8084 triangles
-  std::printf("[ timing   ] 100k queries, CPU ms: sphere 20480 tris inside %.0f distance %.0f; "
-              "phantom 8084 tris inside %.0f distance %.0f\n",
-              1e3 * s_in, 1e3 * s_dist, 1e3 * p_in, 1e3 * p_dist);
-#ifdef NDEBUG   // unoptimised builds are several times slower; the bound is for release builds
-  // The organ-like phantom is the realistic case. The perfect sphere (distance from deep inside,
-  // where every patch is nearly equidistant) is reported above but not bounded.
-  EXPECT_LT(s_in, ps::test::time_budget(1.0));
-  EXPECT_LT(p_in, ps::test::time_budget(1.0));
-  EXPECT_LT(p_dist, ps::test::time_budget(1.0));
-#endif
+  const int inside = count_inside(phantom);  // 8084 triangles, an organ-like shape in its box
+  EXPECT_GT(inside, 0);
+  EXPECT_LT(inside, 100000);
 }
 
 }  // namespace
