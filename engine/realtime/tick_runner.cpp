@@ -44,16 +44,21 @@ bool TickRunner::last_good(SavedState& out) {
     // commands at the same ticks, the same bits; then the faulted state is put back
     std::vector<uint8_t> now;
     sim_.save(now);
-    sim_.restore(checkpoint_);
-    CommandApplier again(sim_);  // no observer: the recorder has these commands already
-    size_t k = 0;
-    const std::vector<Command>& log = log_.cmds;
-    for (int64_t t = checkpoint_tick_; t < tick_; ++t) {
-      for (; k < log.size() && log[k].tick <= t; ++k) again.apply(log[k], t);
-      if (!sim_.tick()) break;  // these ticks ran clean before: not reached
+    try {
+      sim_.restore(checkpoint_);
+      CommandApplier again(sim_);  // no observer: the recorder has these commands already
+      size_t k = 0;
+      const std::vector<Command>& log = log_.cmds;
+      for (int64_t t = checkpoint_tick_; t < tick_; ++t) {
+        for (; k < log.size() && log[k].tick <= t; ++k) again.apply(log[k], t);
+        if (!sim_.tick()) break;  // these ticks ran clean before: not reached
+      }
+      sim_.save(out.bytes);
+      time = sim_.state().time;
+    } catch (...) {
+      sim_.restore(now);  // the faulted state as it was, whatever happened
+      throw;
     }
-    sim_.save(out.bytes);
-    time = sim_.state().time;
     sim_.restore(now);
   }
   out.tick = tick_;

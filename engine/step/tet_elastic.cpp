@@ -100,11 +100,12 @@ void tet_quarters(const TetElements& te, const Vec3* x, int begin, int end, doub
 }
 
 // The volume shares of the elements [begin, end) added to vol, gathered per node when the range is the
-// fast group, the slow group or all of them (TetElements::node_elem): each element's share into q
-// (State::tet_quarter, [nt + 1] scratch), then each node's sum over its elements in element order:
-// the same additions in the same order as the scatter, so the same bits, but a node's running sum
-// stays in a register instead of going through memory once per element (the scatter's adds into
-// a shared node form a chain of stores and reloads). Other ranges, or no q: the scatter.
+// fast group, the slow group or all of them (TetElements::gather_elem): each element's share into q
+// (State::tet_quarter, [nt + 1] scratch, q[nt] = -0.0), then each node's sum over its elements in
+// element order: the same additions in the same order as the scatter, so the same bits, but a
+// node's running sum stays in a register instead of going through memory once per element (the
+// scatter's adds into a shared node form a chain of stores and reloads), and four nodes' sums run
+// side by side (padded with q[nt]: x + -0.0 == x). Other ranges, or no q: the scatter.
 void add_tet_range_volumes(const TetElements& te, const Vec3* x, int begin, int end, double* q, double* vol) {
   const int nt = te.count(), nf = te.fast_count;
   const int nn = static_cast<int>(te.nodes.size());
