@@ -7,13 +7,13 @@
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "engine/anatomy/shapes.h"
 #include "engine/mesh/mesh_import.h"
 #include "engine/mesh/mesh_query.h"
+#include "tests/engine/mesh/query_points.h"
 
 namespace ps {
 namespace {
@@ -29,19 +29,6 @@ TriMesh query_mesh(int which) {
   return import_mesh(std::string(PROSTATESIM_SOURCE_DIR) + "/../shared/data/prostate_phantom/prostate.stl", opt);
 }
 
-std::vector<Vec3> query_points(const TriMesh& m) {
-  Vec3 lo = m.vertices[0], hi = lo;
-  for (const Vec3& v : m.vertices) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> u(-0.75, 0.75);
-  std::vector<Vec3> pts(100000);
-  for (Vec3& p : pts) p = 0.5 * (lo + hi) + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(hi - lo);
-  return pts;
-}
-
 // range(0): 0 the sphere, 1 the phantom; range(1): 0 inside(), 1 distance()
 void BM_MeshQuery(benchmark::State& state) {
   const int which = static_cast<int>(state.range(0));
@@ -51,7 +38,7 @@ void BM_MeshQuery(benchmark::State& state) {
   }
   const TriMesh m = query_mesh(which);
   const MeshQuery q(m);
-  const std::vector<Vec3> pts = query_points(m);
+  const std::vector<Vec3> pts = test::query_points(m);
   const bool distance = state.range(1) != 0;
   for (auto _ : state) {
     double sum = 0.0;

@@ -10,6 +10,7 @@
 
 #include "engine/mesh/mesh_check.h"
 #include "engine/mesh/mesh_import.h"
+#include "tests/engine/mesh/query_points.h"
 
 namespace ps {
 namespace {
@@ -164,16 +165,8 @@ TEST(MeshQuery, RejectsBadMeshes) {
 // not a test: `prostatesim_bench --benchmark_filter=BM_MeshQuery`, bench/mesh_query_bench.cpp.)
 int count_inside(const TriMesh& m) {
   const MeshQuery q(m);
-  Vec3 lo = m.vertices[0], hi = lo;
-  for (const Vec3& v : m.vertices) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> u(-0.75, 0.75);
   int inside = 0, bad = 0;
-  for (int i = 0; i < 100000; ++i) {
-    const Vec3 p = 0.5 * (lo + hi) + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(hi - lo);
+  for (const Vec3& p : test::query_points(m)) {
     inside += q.inside(p);
     const double d = q.distance(p);
     bad += !(std::isfinite(d) && d >= 0.0);
