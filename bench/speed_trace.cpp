@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "bench/bench_modes.h"
+#include "bench/scripted_run.h"
 #include "engine/realtime/lockstep.h"
 #include "engine/realtime/script.h"
 #include "engine/scenario/parse_yaml.h"
@@ -21,15 +22,13 @@ int speed_trace(const std::string& file, const std::string& script_file, int sub
   ScenarioSpec spec = parse_scenario_file(file);
   if (substeps > 0) spec.substeps = substeps;
   if (mass_scaling >= 0) spec.mass_scaling = mass_scaling != 0;
-  const Script script = parse_script_file(script_file);
-  Scene sc = build_scene(spec);
+  ScriptedRun sr(spec, script_file);
+  const Scene& sc = sr.sc;
+  LockstepRunner& run = sr.run;
   const Model& m = *sc.model;
-  CommandPlayer player(script_commands(script, sc));
-  LockstepRunner run(*sc.sim);
-  run.add_source(&player);
   const NeedleTool* needles =
       sc.needle_tool >= 0 ? static_cast<const NeedleTool*>(sc.sim->tools()[sc.needle_tool].get()) : nullptr;
-  const int64_t ticks = std::llround(script.duration / m.dt);
+  const int64_t ticks = sr.ticks();
   const int64_t window = std::max<int64_t>(1, std::llround(0.01 / m.dt));
   std::printf("%s, %s: %d substeps, mass scaling %s, %lld ticks\n", file.c_str(), script_file.c_str(), m.substeps,
               spec.mass_scaling ? "on" : "off", static_cast<long long>(ticks));

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bench/bench_modes.h"
+#include "bench/scripted_run.h"
 #include "engine/realtime/lockstep.h"
 #include "engine/realtime/physics_loop.h"
 #include "engine/realtime/script.h"
@@ -40,13 +41,11 @@ class StageCpu final : public StageProbe {
 }  // namespace
 
 int tick_trace(const std::string& file, const std::string& script_file, double window_ms) {
-  const Script script = parse_script_file(script_file);
-  Scene sc = load_scene(file);
+  ScriptedRun sr(parse_scenario_file(file), script_file);
+  const Scene& sc = sr.sc;
+  LockstepRunner& run = sr.run;
   const Model& m = *sc.model;
-  CommandPlayer player(script_commands(script, sc));
-  LockstepRunner run(*sc.sim);
-  run.add_source(&player);
-  const int64_t ticks = std::llround(script.duration / m.dt);
+  const int64_t ticks = sr.ticks();
   const int64_t window = std::max<int64_t>(1, std::llround(window_ms * 1e-3 / m.dt));
   std::printf("%s, %s: %d particles, tick %.3g ms x %d substeps, %lld ticks, windows of %lld ticks\n", file.c_str(),
               script_file.c_str(), m.particle_count(), m.dt * 1e3, m.substeps, static_cast<long long>(ticks),

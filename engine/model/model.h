@@ -151,20 +151,13 @@ struct TetElements {
   // four scalar ones. Built by pack_tet_blocks after the last change to g (compile_scenario);
   // empty: the pass gathers from g.
   std::vector<double> g4;
-  // The elements around each node, ascending (pack_tet_blocks): node a's are
-  // node_elem[node_elem_start[a] .. node_elem_start[a + 1]), the fast ones (< fast_count) before
-  // node_elem_mid[a]. The node volumes sum each node's shares over them in element order: the
-  // order of the scatter over the elements, without its chain of read-modify-writes in memory.
-  std::vector<int> node_elem_start;  // [nodes + 1]
-  std::vector<int> node_elem;        // [4 nt] element indices
-  std::vector<int> node_elem_mid;    // [nodes]
-  // The same lists as the node volumes gather them, four nodes at a time (bundle b: nodes 4b ..
-  // 4b + 3), for each range r (0: all elements, 1: the fast group, 2: the slow group): row j of
-  // bundle b holds each of its four nodes' j-th element of the range, ascending, padded past a
-  // node's last one with element nt, whose slot of State::tet_quarter holds -0.0 (x + -0.0 == x
-  // exactly, for every x, so padding changes no bit); rows gather_start[r][b] ..
-  // gather_start[r][b + 1], 4 entries each. Four nodes' sums run side by side instead of one
-  // node's chain of dependent additions at a time.
+  // The elements around each node, as the node volumes gather them (pack_tet_blocks), four nodes
+  // at a time (bundle b: nodes 4b .. 4b + 3), for each range r (0: all elements, 1: the fast group
+  // [0, fast_count), 2: the slow group): row j of bundle b holds each of its four nodes' j-th
+  // element of the range, ascending (the scatter's order), padded past a node's last one with
+  // element nt, whose slot of State::tet_quarter holds -0.0 (x + -0.0 == x exactly, for every x,
+  // so padding changes no bit); rows gather_start[r][b] .. gather_start[r][b + 1], 4 entries each.
+  // Four nodes' sums run side by side instead of one node's chain of dependent additions at a time.
   std::vector<int> gather_start[3];  // [bundles + 1] rows
   std::vector<int> gather_elem[3];   // [4 rows] element indices
   int gather_ranges() const { return gather_start[0].empty() ? 0 : 3; }

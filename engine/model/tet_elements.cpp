@@ -156,20 +156,21 @@ void pack_tet_blocks(TetElements& te) {
   for (int t = 0; t < nt; ++t)
     for (int i = 0; i < 9; ++i) te.g4[36 * (t / 4) + 4 * i + t % 4] = te.g[9 * t + i];
   const int nn = static_cast<int>(te.nodes.size());
-  te.node_elem_start.assign(nn + 1, 0);
-  for (int v : te.v) ++te.node_elem_start[te.node_slot[v] + 1];
-  for (int a = 0; a < nn; ++a) te.node_elem_start[a + 1] += te.node_elem_start[a];
-  std::vector<int> fill(te.node_elem_start.begin(), te.node_elem_start.end() - 1);
-  te.node_elem.assign(te.v.size(), 0);
+  // each node's elements, ascending (CSR: node_elem[start[a] .. start[a + 1]), the fast ones
+  // before mid[a]), then laid out in bundles of four nodes (TetElements::gather_*)
+  std::vector<int> start(nn + 1, 0);
+  for (int v : te.v) ++start[te.node_slot[v] + 1];
+  for (int a = 0; a < nn; ++a) start[a + 1] += start[a];
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  std::vector<int> node_elem(te.v.size(), 0);
   for (int t = 0; t < nt; ++t)  // ascending t: each node's list comes out ascending
-    for (int i = 0; i < 4; ++i) te.node_elem[fill[te.node_slot[te.v[4 * t + i]]]++] = t;
-  te.node_elem_mid.assign(nn, 0);
+    for (int i = 0; i < 4; ++i) node_elem[fill[te.node_slot[te.v[4 * t + i]]]++] = t;
+  std::vector<int> mid(nn, 0);
   for (int a = 0; a < nn; ++a) {
-    int e = te.node_elem_start[a];
-    while (e < te.node_elem_start[a + 1] && te.node_elem[e] < te.fast_count) ++e;
-    te.node_elem_mid[a] = e;
+    int e = start[a];
+    while (e < start[a + 1] && node_elem[e] < te.fast_count) ++e;
+    mid[a] = e;
   }
-  // the bundles of four nodes (TetElements::gather_*)
   const int bundles = (nn + 3) / 4;
   for (int r = 0; r < 3; ++r) {
     te.gather_start[r].assign(1, 0);
@@ -180,12 +181,12 @@ void pack_tet_blocks(TetElements& te) {
         const int a = 4 * b + l;
         lo[l] = len[l] = 0;
         if (a >= nn) continue;
-        lo[l] = r == 2 ? te.node_elem_mid[a] : te.node_elem_start[a];
-        len[l] = (r == 1 ? te.node_elem_mid[a] : te.node_elem_start[a + 1]) - lo[l];
+        lo[l] = r == 2 ? mid[a] : start[a];
+        len[l] = (r == 1 ? mid[a] : start[a + 1]) - lo[l];
         rows = std::max(rows, len[l]);
       }
       for (int j = 0; j < rows; ++j)
-        for (int l = 0; l < 4; ++l) te.gather_elem[r].push_back(j < len[l] ? te.node_elem[lo[l] + j] : nt);
+        for (int l = 0; l < 4; ++l) te.gather_elem[r].push_back(j < len[l] ? node_elem[lo[l] + j] : nt);
       te.gather_start[r].push_back(te.gather_start[r].back() + rows);
     }
   }

@@ -39,7 +39,7 @@ std::vector<std::string> build_tet_elements(Model& model, const std::vector<TetP
                                             const std::vector<std::vector<int>>& excluded,
                                             const std::vector<TetLink>& links);
 
-// Fills te.g4 from te.g and the node -> element lists (TetElements::g4, node_elem*). Call after the
+// Fills te.g4 from te.g and the node -> element lists (TetElements::g4, gather_*). Call after the
 // last change to te.g, v, their order or fast_count.
 void pack_tet_blocks(TetElements& te);
 

@@ -13,34 +13,26 @@ namespace ps {
 
 namespace {
 
-void anchor_io(AffineAnchor& a, StateIO& io) {
-  io.pod(a.count);
-  io.pod(a.idx);
-  io.pod(a.w);
-  io.vec(a.offset);
-  io.pod(a.rotational);
-}
-
-// anchor_io over a whole array, the same bytes in one span (StateIO::span): a needle has an
-// anchor per node, and the app saves the state before every tick
-void anchors_io(std::vector<AffineAnchor>& v, StateIO& io) {
+// The anchors a[0 .. n) walked field by field (count, idx, w, offset, rotational: the bytes of one
+// pod() / vec() call each) through one span (StateIO::span): a needle has an anchor per node, and
+// the app saves the state for its checkpoints and recording hashes; one bounds check, not five an anchor.
+void anchors_io(AffineAnchor* a, size_t n, StateIO& io) {
   constexpr size_t kCount = sizeof(AffineAnchor::count), kIdx = sizeof(AffineAnchor::idx), kW = sizeof(AffineAnchor::w);
   constexpr size_t kOffset = 3 * sizeof(double), kRot = sizeof(AffineAnchor::rotational);
-  constexpr size_t kEach = kCount + kIdx + kW + kOffset + kRot;
   static_assert(sizeof(Vec3) == kOffset);
-  uint8_t* p = io.span(kEach * v.size());
+  uint8_t* p = io.span((kCount + kIdx + kW + kOffset + kRot) * n);
   const bool save = io.saving();
-  auto field = [&](void* f, size_t n) {
-    if (save) std::memcpy(p, f, n);
-    else std::memcpy(f, p, n);
-    p += n;
+  auto field = [&](void* f, size_t len) {
+    if (save) std::memcpy(p, f, len);
+    else std::memcpy(f, p, len);
+    p += len;
   };
-  for (AffineAnchor& a : v) {
-    field(&a.count, kCount);
-    field(a.idx.data(), kIdx);
-    field(a.w.data(), kW);
-    field(a.offset.data(), kOffset);
-    field(&a.rotational, kRot);
+  for (size_t i = 0; i < n; ++i) {
+    field(&a[i].count, kCount);
+    field(a[i].idx.data(), kIdx);
+    field(a[i].w.data(), kW);
+    field(a[i].offset.data(), kOffset);
+    field(&a[i].rotational, kRot);
   }
 }
 
@@ -244,7 +236,7 @@ void NeedleTool::serialize(StateIO& io) {
     io.pod(nd.in_lumen);
     io.pod(nd.exit_a);
     io.vec(nd.exit_point);
-    anchors_io(nd.anchors, io);
+    anchors_io(nd.anchors.data(), nd.anchors.size(), io);
     io.array(nd.anchor_c);
     io.array(nd.anchor_csum);
     io.array(nd.stick_scale);
@@ -273,7 +265,7 @@ void NeedleTool::serialize(StateIO& io) {
       io.pod(sd.time);
       io.vec(sd.at);
       io.vec(sd.current);
-      anchor_io(sd.anchor, io);
+      anchors_io(&sd.anchor, 1, io);
     }
     io.pod(nd.deepest);
     CoreState& c = nd.core;
