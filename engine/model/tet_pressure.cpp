@@ -152,10 +152,20 @@ void solve_tet_pressure(const TetPressure& tp, double* b, double* y) {
     for (int e = start[c]; e < start[c + 1]; ++e) y[row[e]] -= val[e] * yc;
   }
   for (int c = 0; c < k; ++c) y[c] /= tp.d[c];    // D
-  for (int c = k - 1; c >= 0; --c) {              // L^T
-    double yc = y[c];
-    for (int e = start[c]; e < start[c + 1]; ++e) yc -= val[e] * y[row[e]];
-    y[c] = yc;
+  // L^T: each column's dot product in four running sums (one sum was a chain of dependent
+  // subtractions, the whole factor long: 30 % of the pressure stage)
+  for (int c = k - 1; c >= 0; --c) {
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+    int e = start[c];
+    const int end = start[c + 1];
+    for (; e + 4 <= end; e += 4) {
+      s0 += val[e] * y[row[e]];
+      s1 += val[e + 1] * y[row[e + 1]];
+      s2 += val[e + 2] * y[row[e + 2]];
+      s3 += val[e + 3] * y[row[e + 3]];
+    }
+    for (; e < end; ++e) s0 += val[e] * y[row[e]];
+    y[c] -= (s0 + s1) + (s2 + s3);
   }
   for (int i = 0; i < k; ++i) b[i] = y[perm[i]];  // x = P^-1 y
 }

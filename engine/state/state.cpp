@@ -26,6 +26,7 @@ State make_state(const Model& model) {
     s.pressure_work.assign(k, 0.0);
     s.pressure_lambda.assign(k, 0.0);
     s.pressure_dx.assign(n, Vec3::Zero());
+    s.pressure_quarter.assign(model.tet_pressure.tets.size(), 0.0);
   }
   if (model.tets.multirate()) {
     s.tet_slow_vol.assign(model.tets.nodes.size(), 0.0);

@@ -60,6 +60,13 @@ void rebuild_tet_sleep(const Model& m, State& s);
 void add_tet_node_volumes(const TetElements& te, const Vec3* x, const int* list, int count, double* vol);
 // tet_elastic.cpp: q[t] = V_t / 4 of the elements [begin, end) [m^3] (the node volumes gather them)
 void tet_quarters(const TetElements& te, const Vec3* x, int begin, int end, double* q);
+// the same for the elements whose four particles are vv[4 t .. 4 t + 3] (the implicit pressure's
+// contiguous copy, TetPressure::tet_v)
+void tet_quarters_of(const int* vv, const Vec3* x, int begin, int end, double* q);
+// tet_pressure.cpp: the implicit pressure's correction before the mass weighting, dx += J^T dl,
+// for the elements [0, ntp) of TetPressure::tet_v / tet_row (dl [k] the multiplier step [kg/m],
+// dx [m kg]); four elements per vector, the same bits as one element at a time
+void pressure_corrections(const int* tv, const int* trow, int ntp, const double* dl, const Vec3* x, Vec3* dx);
 // tet_elastic.cpp: adds the volume shares of the elements [begin, end) to vol [m^3], gathered per
 // node when the range is the fast group, the slow group or all (q: [nt + 1] scratch, q[nt] = -0.0,
 // the gather's padding), else scattered;

@@ -73,10 +73,9 @@ void add_volume_shares(const TetElements& te, const Vec3* x, const int* list, in
 // per vector (each lane its operations in its order: Eigen's dot is (x0 y0 + x1 y1) + x2 y2; the
 // division by 24 one vector division), the rest one at a time. The same bits either way.
 PS_TARGET_CLONES("arch=x86-64-v4", "avx", "default")
-void tet_quarters(const TetElements& te, const Vec3* x, int begin, int end, double* q) {
+void tet_quarters_of(const int* vv, const Vec3* x, int begin, int end, double* q) {
   typedef double D4 __attribute__((vector_size(32)));
   typedef double U4 __attribute__((vector_size(32), aligned(8), may_alias));
-  const int* vv = te.v.data();
   int t = begin;
   for (; t + 4 <= end; t += 4) {
     const int* v = vv + 4 * t;  // lane l's vertex i: v[4 l + i]
@@ -97,6 +96,10 @@ void tet_quarters(const TetElements& te, const Vec3* x, int begin, int end, doub
     const Vec3 x0 = x[v[0]];
     q[t] = (x[v[1]] - x0).dot((x[v[2]] - x0).cross(x[v[3]] - x0)) / 24.0;
   }
+}
+
+void tet_quarters(const TetElements& te, const Vec3* x, int begin, int end, double* q) {
+  tet_quarters_of(te.v.data(), x, begin, end, q);
 }
 
 // The volume shares of the elements [begin, end) added to vol, gathered per node when the range is the

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "engine/model/tet_pressure.h"
@@ -121,6 +122,57 @@ TEST(TetPressure, StepDoesNotAllocateAndIsDeterministic) {
   EXPECT_EQ(test::allocation_count() - before, 0);
   for (int i = 0; i < 21; ++i) ASSERT_TRUE(b.tick());
   for (int p = 0; p < m->particle_count(); ++p) EXPECT_EQ(a.state().x[p], b.state().x[p]);
+}
+
+TEST(TetPressure, FourWideCorrectionsEqualOneElementAtATimeBitForBit) {
+  auto m = test::compile_text(block_yaml("implicit", 1));
+  const TetPressure& tp = m->tet_pressure;
+  const int ntp = static_cast<int>(tp.tets.size()), k = tp.size(), n = m->particle_count();
+  ASSERT_GT(ntp, 16);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> N(0.0, 1e-3);  // 1 mm jitter on an 8 mm spacing
+  std::vector<Vec3> x(m->rest_pos);
+  for (Vec3& p : x) p += Vec3(N(rng), N(rng), N(rng));
+  // multiplier steps with many rows at zero, so that some elements' shares are zero and skipped
+  std::vector<double> dl(k);
+  std::bernoulli_distribution zero(0.7);
+  for (double& d : dl) d = zero(rng) ? 0.0 : N(rng);
+  int skipped = 0;
+  for (int j = 0; j < ntp; ++j) {
+    double share = 0.0;
+    for (int i = 0; i < 4; ++i)
+      if (const int r = tp.tet_row[4 * j + i]; r >= 0) share += dl[r];
+    skipped += share == 0.0;
+  }
+  EXPECT_GT(skipped, 0);
+  EXPECT_LT(skipped, ntp);
+  // every count of elements mod 4, and the whole list
+  for (int count : {1, 2, 3, 5, ntp - 3, ntp - 2, ntp - 1, ntp}) {
+    std::vector<Vec3> wide(n, Vec3::Zero()), one(n, Vec3::Zero());
+    pressure_corrections(tp.tet_v.data(), tp.tet_row.data(), count, dl.data(), x.data(), wide.data());
+    for (int j = 0; j < count; ++j) {  // the scalar form
+      const int* v = &tp.tet_v[4 * j];
+      double share = 0.0;
+      for (int i = 0; i < 4; ++i)
+        if (const int r = tp.tet_row[4 * j + i]; r >= 0) share += dl[r];
+      if (share == 0.0) continue;
+      share *= 0.25 / 6.0;
+      const Vec3 e1 = x[v[1]] - x[v[0]], e2 = x[v[2]] - x[v[0]], e3 = x[v[3]] - x[v[0]];
+      const Vec3 g1 = share * e2.cross(e3), g2 = share * e3.cross(e1), g3 = share * e1.cross(e2);
+      one[v[1]] += g1;
+      one[v[2]] += g2;
+      one[v[3]] += g3;
+      one[v[0]] -= g1 + g2 + g3;
+    }
+    int differing = 0, moved = 0;
+    for (int p = 0; p < n; ++p)
+      for (int a = 0; a < 3; ++a) {
+        differing += std::memcmp(&wide[p][a], &one[p][a], sizeof(double)) != 0;
+        moved += one[p][a] != 0.0;
+      }
+    EXPECT_EQ(differing, 0) << count << " elements";
+    EXPECT_GT(moved, 0) << count << " elements";
+  }
 }
 
 TEST(TetPressure, ExplicitSceneHasNoStage) {
