@@ -21,6 +21,7 @@
 #include <algorithm>
 
 #include "engine/step/stages.h"
+#include "engine/step/tet_edges4.h"
 #include "engine/util/multiversion.h"
 
 namespace ps {
@@ -78,14 +79,8 @@ void tet_quarters_of(const int* vv, const Vec3* x, int begin, int end, double* q
   typedef double U4 __attribute__((vector_size(32), aligned(8), may_alias));
   int t = begin;
   for (; t + 4 <= end; t += 4) {
-    const int* v = vv + 4 * t;  // lane l's vertex i: v[4 l + i]
-    D4 e[3][3];                 // e[j][r]: edge x_{j+1} - x_0, coordinate r
-    #pragma GCC unroll 16
-    for (int r = 0; r < 3; ++r) {
-      const D4 x0 = {x[v[0]][r], x[v[4]][r], x[v[8]][r], x[v[12]][r]};
-      #pragma GCC unroll 16
-      for (int j = 0; j < 3; ++j) e[j][r] = D4{x[v[j + 1]][r], x[v[5 + j]][r], x[v[9 + j]][r], x[v[13 + j]][r]} - x0;
-    }
+    D4 e[3][3];  // e[j][r]: edge x_{j+1} - x_0, coordinate r
+    tet_edges4(x, vv + 4 * t, e);
     const D4 c0 = e[1][1] * e[2][2] - e[1][2] * e[2][1];
     const D4 c1 = e[1][2] * e[2][0] - e[1][0] * e[2][2];
     const D4 c2 = e[1][0] * e[2][1] - e[1][1] * e[2][0];

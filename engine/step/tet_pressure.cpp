@@ -11,6 +11,7 @@
 // No allocation: the scratch is sized at make_state.
 #include "engine/model/tet_pressure.h"
 #include "engine/step/stages.h"
+#include "engine/step/tet_edges4.h"
 #include "engine/util/multiversion.h"
 
 namespace ps {
@@ -39,12 +40,7 @@ void pressure_corrections(const int* tv, const int* trow, int ntp, const double*
     if (sh[0] == 0.0 && sh[1] == 0.0 && sh[2] == 0.0 && sh[3] == 0.0) continue;
     const int* v = tv + 4 * j;  // lane l's vertex i: v[4 l + i]
     D4 e[3][3];                 // e[k][r]: edge x_{k+1} - x_0, coordinate r
-    #pragma GCC unroll 16
-    for (int r = 0; r < 3; ++r) {
-      const D4 x0 = {x[v[0]][r], x[v[4]][r], x[v[8]][r], x[v[12]][r]};
-      #pragma GCC unroll 16
-      for (int k = 0; k < 3; ++k) e[k][r] = D4{x[v[k + 1]][r], x[v[5 + k]][r], x[v[9 + k]][r], x[v[13 + k]][r]} - x0;
-    }
+    tet_edges4(x, v, e);
     const D4 share = D4{sh[0], sh[1], sh[2], sh[3]} * (0.25 / 6.0);
     D4 g[3][3];  // g[k][r]: share x the gradient of the volume at vertex k + 1, coordinate r
     #pragma GCC unroll 16

@@ -150,20 +150,8 @@ TEST(TetPressure, FourWideCorrectionsEqualOneElementAtATimeBitForBit) {
   for (int count : {1, 2, 3, 5, ntp - 3, ntp - 2, ntp - 1, ntp}) {
     std::vector<Vec3> wide(n, Vec3::Zero()), one(n, Vec3::Zero());
     pressure_corrections(tp.tet_v.data(), tp.tet_row.data(), count, dl.data(), x.data(), wide.data());
-    for (int j = 0; j < count; ++j) {  // the scalar form
-      const int* v = &tp.tet_v[4 * j];
-      double share = 0.0;
-      for (int i = 0; i < 4; ++i)
-        if (const int r = tp.tet_row[4 * j + i]; r >= 0) share += dl[r];
-      if (share == 0.0) continue;
-      share *= 0.25 / 6.0;
-      const Vec3 e1 = x[v[1]] - x[v[0]], e2 = x[v[2]] - x[v[0]], e3 = x[v[3]] - x[v[0]];
-      const Vec3 g1 = share * e2.cross(e3), g2 = share * e3.cross(e1), g3 = share * e1.cross(e2);
-      one[v[1]] += g1;
-      one[v[2]] += g2;
-      one[v[3]] += g3;
-      one[v[0]] -= g1 + g2 + g3;
-    }
+    // one element at a time: each call takes the scalar path
+    for (int j = 0; j < count; ++j) pressure_corrections(&tp.tet_v[4 * j], &tp.tet_row[4 * j], 1, dl.data(), x.data(), one.data());
     int differing = 0, moved = 0;
     for (int p = 0; p < n; ++p)
       for (int a = 0; a < 3; ++a) {
