@@ -152,8 +152,8 @@ void solve_tet_pressure(const TetPressure& tp, double* b, double* y) {
     for (int e = start[c]; e < start[c + 1]; ++e) y[row[e]] -= val[e] * yc;
   }
   for (int c = 0; c < k; ++c) y[c] /= tp.d[c];    // D
-  // L^T: each column's dot product in four running sums (one sum was a chain of dependent
-  // subtractions, the whole factor long: 30 % of the pressure stage)
+  // L^T: each column's dot product in four running sums (in one sum every subtraction waits for
+  // the one before: a chain as long as the factor, 16 140 entries in the default anatomy)
   for (int c = k - 1; c >= 0; --c) {
     double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
     int e = start[c];

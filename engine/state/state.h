@@ -69,7 +69,8 @@ struct State {
   std::vector<double> pressure_work;    // [k] triangular-solve scratch
   std::vector<double> pressure_lambda;  // [k] multiplier accumulated over the substep's solves [kg/m]
   std::vector<Vec3> pressure_dx;        // [n] position correction of the support particles [m kg]
-  std::vector<double> pressure_quarter; // [TetPressure::tets] their volume shares V_t / 4 [m^3]
+  std::vector<double> pressure_quarter; // [TetPressure::tets] volume share V_t / 4 of each of the
+                                        // pressure's elements [m^3]
   // sleeping tissue (Model::sleep; empty when it is off). Part of save() and the hash: which
   // elements run, and the held shares and forces of those that do not, decide the next step.
   std::vector<uint8_t> asleep;          // [n] 1: the particle sleeps (not integrated, v = 0)
