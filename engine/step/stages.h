@@ -58,11 +58,10 @@ void rebuild_tet_sleep(const Model& m, State& s);
 // tet_elastic.cpp: elements list[0..count) (ascending) add their volume shares V_t / 4 to vol
 // (indexed like Model::tets.nodes) [m^3]
 void add_tet_node_volumes(const TetElements& te, const Vec3* x, const int* list, int count, double* vol);
-// tet_elastic.cpp: q[t] = V_t / 4 of the elements [begin, end) [m^3] (the node volumes gather them)
-void tet_quarters(const TetElements& te, const Vec3* x, int begin, int end, double* q);
-// the same for the elements whose four particles are vv[4 t .. 4 t + 3] (the implicit pressure's
-// contiguous copy, TetPressure::tet_v)
-void tet_quarters_of(const int* vv, const Vec3* x, int begin, int end, double* q);
+// tet_elastic.cpp: q[t] = V_t / 4 of the elements [begin, end) whose four particles are
+// vv[4 t .. 4 t + 3] [m^3]: TetElements::v (the node volumes gather them) or the implicit
+// pressure's contiguous copy TetPressure::tet_v
+void tet_quarters(const int* vv, const Vec3* x, int begin, int end, double* q);
 // tet_pressure.cpp: the implicit pressure's correction before the mass weighting, dx += J^T dl,
 // for the elements [0, ntp) of TetPressure::tet_v / tet_row (dl [k] the multiplier step [kg/m],
 // dx [m kg]); four elements per vector, the same bits as one element at a time

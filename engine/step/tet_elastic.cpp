@@ -74,7 +74,7 @@ void add_volume_shares(const TetElements& te, const Vec3* x, const int* list, in
 // per vector (each lane its operations in its order: Eigen's dot is (x0 y0 + x1 y1) + x2 y2; the
 // division by 24 one vector division), the rest one at a time. The same bits either way.
 PS_TARGET_CLONES("arch=x86-64-v4", "avx", "default")
-void tet_quarters_of(const int* vv, const Vec3* x, int begin, int end, double* q) {
+void tet_quarters(const int* vv, const Vec3* x, int begin, int end, double* q) {
   typedef double D4 __attribute__((vector_size(32)));
   typedef double U4 __attribute__((vector_size(32), aligned(8), may_alias));
   int t = begin;
@@ -93,10 +93,6 @@ void tet_quarters_of(const int* vv, const Vec3* x, int begin, int end, double* q
   }
 }
 
-void tet_quarters(const TetElements& te, const Vec3* x, int begin, int end, double* q) {
-  tet_quarters_of(te.v.data(), x, begin, end, q);
-}
-
 // The volume shares of the elements [begin, end) added to vol, gathered per node when the range is the
 // fast group, the slow group or all of them (TetElements::gather_elem): each element's share into q
 // (State::tet_quarter, [nt + 1] scratch, q[nt] = -0.0), then each node's sum over its elements in
@@ -113,7 +109,7 @@ void add_tet_range_volumes(const TetElements& te, const Vec3* x, int begin, int 
     add_volume_shares(te, x, nullptr, begin, end, vol);
     return;
   }
-  tet_quarters(te, x, begin, end, q);
+  tet_quarters(te.v.data(), x, begin, end, q);
   // four nodes at a time (TetElements::gather_elem): four independent running sums
   const int* bs = te.gather_start[which].data();
   const int* ge = te.gather_elem[which].data();

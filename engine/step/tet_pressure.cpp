@@ -95,7 +95,7 @@ void project_tet_pressure(const Model& m, State& s, double dt) {
   for (int r = 0; r < k; ++r) lambda[r] = 0.0;
   for (int it = 0; it < tp.iterations; ++it) {
     // C_n: volume shares of the implicit nodes at the current positions (four elements per vector)
-    tet_quarters_of(tv, x, 0, ntp, quarter);
+    tet_quarters(tv, x, 0, ntp, quarter);
     for (int r = 0; r < k; ++r) rhs[r] = 0.0;
     for (int j = 0; j < ntp; ++j) {
       const int* row = trow + 4 * j;

@@ -42,17 +42,10 @@ class StateIO {
     bytes(&v, sizeof(T));
   }
   void bytes(void* p, size_t n) {
-    if (mode_ == Save) {
-      // the state has thousands of small fields (a needle's anchors): one vector insert each cost
-      // about a tenth of a brachytherapy tick in the app's per-tick save of the last good state
-      if (pos_ + n > buf_.size()) buf_.resize(std::max(pos_ + n, 2 * buf_.size()));
-      if (n) std::memcpy(buf_.data() + pos_, p, n);
-      pos_ += n;
-    } else {
-      if (pos_ + n > buf_.size()) throw std::runtime_error("StateIO: saved state is shorter than this simulation's");
-      std::memcpy(p, buf_.data() + pos_, n);
-      pos_ += n;
-    }
+    uint8_t* s = span(n);
+    if (!n) return;
+    if (mode_ == Save) std::memcpy(s, p, n);
+    else std::memcpy(p, s, n);
   }
   // The next n bytes, to be filled (Save) or read (Restore) by the caller: for a long run of
   // small fields (a needle's anchors), copied at fixed offsets from one pointer instead of one
@@ -60,6 +53,8 @@ class StateIO {
   // store may alias the buffer's own pointers). The same bytes as the fields' bytes() calls.
   uint8_t* span(size_t n) {
     if (mode_ == Save) {
+      // grown geometrically: the state has thousands of small fields (a needle's anchors), and
+      // one vector insert each cost about a tenth of a brachytherapy tick in a per-tick save
       if (pos_ + n > buf_.size()) buf_.resize(std::max(pos_ + n, 2 * buf_.size()));
     } else if (pos_ + n > buf_.size()) {
       throw std::runtime_error("StateIO: saved state is shorter than this simulation's");

@@ -136,7 +136,7 @@ TEST(TetElasticForce, GatheredNodeVolumesEqualTheScatterBitForBit) {
   std::normal_distribution<double> N(0.0, 0.8e-3);
   for (int p = 0; p < m->particle_count(); ++p) s.x[p] = m->rest_pos[p] + Vec3(N(rng), N(rng), N(rng));
   std::vector<double> q(nt + 1, -0.0);  // the last: the gather's padding
-  tet_quarters(te, s.x.data(), 0, nt, q.data());
+  tet_quarters(te.v.data(), s.x.data(), 0, nt, q.data());
   for (int t = 0; t < nt; ++t) {
     const int* v = &te.v[4 * t];
     const Vec3 x0 = s.x[v[0]];
