@@ -203,11 +203,11 @@ int run_live(const RunArgs& a) {
   if (a.hash_only) {
     std::printf("%s\n", hex16(h).c_str());
   } else {
-    std::printf("%lld ticks, %.4g s simulated; last window: %.0f ticks/s, real-time factor %.3f%s, tick p50 %.3f ms p99 %.3f ms, "
-                "%lld overruns; %lld commands applied, %lld refused\n",
+    std::printf("%lld ticks, %.4g s simulated; last window: %.0f ticks/s, real-time factor %.3f%s, tick p50 %.3f ms p99 %.3f ms; "
+                "whole run: tick p99 %.2f ms max %.2f ms, %lld overruns; %lld commands applied, %lld refused\n",
                 static_cast<long long>(ticks), scene.sim->state().time, t.achieved_hz, t.realtime_factor, t.reanchors ? " (slow motion)" : "",
-                t.tick_p50_ms, t.tick_p99_ms, static_cast<long long>(t.overruns), static_cast<long long>(loop.applier().applied()),
-                static_cast<long long>(loop.applier().refused()));
+                t.tick_p50_ms, t.tick_p99_ms, t.run_tick_p99_ms, t.run_tick_max_ms, static_cast<long long>(t.overruns),
+                static_cast<long long>(loop.applier().applied()), static_cast<long long>(loop.applier().refused()));
     if (rec) std::printf("recorded %s\n", a.record.c_str());
     std::printf("state hash %s\n", hex16(h).c_str());
   }

@@ -22,7 +22,7 @@ int stable_dt_profile(const std::string& file);     // stable_dt_profile.cpp
 int fast_error(const std::string& scene, int substeps, int mass_scaling, int triplets, double duration,
                int ref_substeps, double fast_nu = 0.0, int fast_pressure = -1,
                int pressure_iterations = 0, double fast_sleep_wake = -1.0,
-               int fast_multirate = -1, double fast_dt_ms = -1.0);  // fast_error.cpp
+               int fast_multirate = -1, double fast_dt_ms = -1.0, const std::string& ref_file = "");  // fast_error.cpp
 int run_ticks(const std::string& file, int ticks);  // tick_mode.cpp
 int realtime_loop(double wall_s);                   // realtime_loop.cpp
 int speed_trace(const std::string& file, const std::string& script, int substeps, int mass_scaling);  // speed_trace.cpp

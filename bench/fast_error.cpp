@@ -16,7 +16,10 @@
 // default) the file's; the reference never sleeps. FAST_MULTIRATE 0/1 sets the fast run's
 // solver.multirate (-1, the default: the file's); the reference never splits. FAST_DT_MS > 0 sets
 // the fast run's tick (time.dt_ms; the reference keeps the file's): a longer tick at the same substep
-// runs the multi-rate slow group less often.
+// runs the multi-rate slow group less often. REF_FILE: the reference reads this scenario file
+// instead of config/<SCENE>.yaml (the same anatomy otherwise discretised, e.g. the fat at another
+// spacing: the error of the change of discretisation plus the fast scheme's). The prostate must
+// keep its particles (same mesh and spacing, first component), as the comparison is per particle.
 #include <algorithm>
 #include <cstdio>
 #include <ctime>
@@ -31,10 +34,10 @@ namespace ps::bench {
 
 int fast_error(const std::string& scene, int substeps, int mass_scaling, int triplets, double duration,
                int ref_substeps, double fast_nu, int fast_pressure, int pressure_iterations, double fast_sleep_wake,
-               int fast_multirate, double fast_dt_ms) {
-  const ScenarioSpec ref_spec0 = realtime_scene(scene);
+               int fast_multirate, double fast_dt_ms, const std::string& ref_file) {
+  const ScenarioSpec ref_spec0 = realtime_scene(scene, -1, -1, -1, -1, ref_file);
   if (ref_substeps <= 0) ref_substeps = 2 * ref_spec0.substeps;
-  ScenarioSpec ref_spec = realtime_scene(scene, 0, ref_substeps, 0, 0);  // plain explicit, every element every substep
+  ScenarioSpec ref_spec = realtime_scene(scene, 0, ref_substeps, 0, 0, ref_file);  // plain explicit, every element every substep
   for (MaterialSpec& mat : ref_spec.materials) mat.implicit_pressure = false;
   ref_spec.sleep = false;
   ScenarioSpec fast_spec = realtime_scene(scene, triplets, substeps, mass_scaling, fast_multirate);
@@ -53,6 +56,17 @@ int fast_error(const std::string& scene, int substeps, int mass_scaling, int tri
       if (mat.name == "prostate") mat.poisson = fast_nu;
   auto ref_model = compile_scenario(ref_spec);
   auto fast_model = compile_scenario(fast_spec);
+  if (!ref_file.empty()) {
+    // the per-particle comparison needs the prostate's particles where the fast run has them
+    const int pr = ref_model->find_component("prostate"), pf = fast_model->find_component("prostate");
+    if (pr < 0 || pf < 0 || ref_model->components[pr].first_particle != fast_model->components[pf].first_particle ||
+        ref_model->components[pr].particle_count != fast_model->components[pf].particle_count) {
+      std::fprintf(stderr, "%s: the prostate's particles differ from config/%s.yaml's\n", ref_file.c_str(), scene.c_str());
+      return 2;
+    }
+    std::printf("reference file %s: %d particles, %d tet elements\n", ref_file.c_str(), ref_model->particle_count(),
+                ref_model->tets.count());
+  }
   const Vec3 target = realtime_target(scene, ref_spec);
   std::printf("%s: reference all triplets, %d substeps (estimate %.4g ms); fast %d triplets, %d substeps "
               "(estimate %.4g ms), mass scaling %s (added inertia %.4g g, largest factor %.3g), multirate %s "

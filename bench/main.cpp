@@ -8,7 +8,8 @@
 //   prostatesim_bench --stable-dt [N]          largest stable substep vs the estimate (N substeps)
 //   prostatesim_bench --dt-profile FILE        what sets FILE's stable substep (particles, terms)
 //   prostatesim_bench --fast-error SCENE SUBSTEPS MASS_SCALING TRIPLETS DURATION_S [REF_SUBSTEPS
-//                     [FAST_NU [FAST_PRESSURE [PRESSURE_ITERATIONS [FAST_SLEEP_WAKE]]]]]
+//                     [FAST_NU [FAST_PRESSURE [PRESSURE_ITERATIONS [FAST_SLEEP_WAKE [FAST_MULTIRATE
+//                     [FAST_DT_MS [REF_FILE]]]]]]]]
 //                                              fast configuration vs the converged reference
 //   prostatesim_bench --ticks SCENARIO N       N ticks of a scenario file with its tools (callgrind)
 //   prostatesim_bench --soak [N]               config/biopsy.yaml with its tools for N substeps
@@ -41,7 +42,8 @@ int main(int argc, char** argv) {
                                  std::atof(argv[6]), argc >= 8 ? std::atoi(argv[7]) : 0,
                                  argc >= 9 ? std::atof(argv[8]) : 0.0, argc >= 10 ? std::atoi(argv[9]) : -1,
                                  argc >= 11 ? std::atoi(argv[10]) : 0, argc >= 12 ? std::atof(argv[11]) : -1.0,
-                                 argc >= 13 ? std::atoi(argv[12]) : -1, argc >= 14 ? std::atof(argv[13]) : -1.0);
+                                 argc >= 13 ? std::atoi(argv[12]) : -1, argc >= 14 ? std::atof(argv[13]) : -1.0,
+                                 argc >= 15 ? argv[14] : "");
   if (argc >= 2 && std::strcmp(argv[1], "--soak") == 0) return ps::bench::soak(argc >= 3 ? std::atoi(argv[2]) : 100000);
   if (argc >= 2 && std::strcmp(argv[1], "--realtime") == 0) return ps::bench::realtime_loop(argc >= 3 ? std::atof(argv[2]) : 20.0);
   if (argc >= 4 && std::strcmp(argv[1], "--speed-trace") == 0)

@@ -45,6 +45,8 @@ int realtime_loop(double wall_s) {
                 "jitter (p99-p50 of tick starts) %.2f ms\n",
                 t.achieved_hz, t.realtime_factor, t.slow_motion ? " (slow motion)" : "", t.tick_p50_ms, t.tick_p99_ms, t.tick_max_ms,
                 t.jitter_ms);
+    std::printf("  whole run: compute per tick p50 %.2f ms, p99 %.2f ms, max %.2f ms\n", t.run_tick_p50_ms, t.run_tick_p99_ms,
+                t.run_tick_max_ms);
     std::printf("  overruns %lld of %lld ticks, re-anchors %lld, publish %.3f ms/tick, commands %lld applied %lld refused\n",
                 static_cast<long long>(t.overruns), static_cast<long long>(t.ticks), static_cast<long long>(t.reanchors), t.publish_ms,
                 static_cast<long long>(t.commands_applied), static_cast<long long>(t.commands_refused));

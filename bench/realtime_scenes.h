@@ -13,9 +13,11 @@
 
 namespace ps::bench {
 
+// `file`: a scenario file to read instead of config/<name>.yaml (the same scene otherwise
+// discretised: bench --fast-error's REF_FILE), with the same needle script added.
 inline ScenarioSpec realtime_scene(const std::string& name, int triplets = -1, int substeps = -1,
-                                   int mass_scaling = -1, int multirate = -1) {
-  ScenarioSpec spec = parse_scenario_file(std::string(PROSTATESIM_SOURCE_DIR) + "/config/" + name + ".yaml");
+                                   int mass_scaling = -1, int multirate = -1, const std::string& file = "") {
+  ScenarioSpec spec = parse_scenario_file(file.empty() ? std::string(PROSTATESIM_SOURCE_DIR) + "/config/" + name + ".yaml" : file);
   if (name == "biopsy" && !spec.needles.needles.empty() && spec.needles.needles[0].script.empty())
     spec.needles.needles[0].script = {{0.0, 0.0}, {1.0, 40e-3}};
   if (triplets >= 0) spec.max_triplets = triplets;

@@ -1,8 +1,11 @@
 // Single stages on a warmed (deformed) state, repeated: the shape-memory stage (optimised and the
 // pre-optimisation reference copy, same binary, so their ratio is the speed-up; also its
-// x86-64-baseline build, which CPUs without AVX run) and the check.
+// x86-64-baseline build, which CPUs without AVX run), the check, and the tet element pass at its
+// two vector widths.
 // Both only read positions, so repeating them keeps the state representative.
 #include <benchmark/benchmark.h>
+
+#include <vector>
 
 #include "bench/bench_common.h"
 #include "bench/bench_modes.h"
@@ -34,6 +37,29 @@ void BM_Check(benchmark::State& state, const char* scene) {
   for (auto _ : state) benchmark::DoNotOptimize(check_state(sim->model(), sim->state()));
   per_particle(state, sim->model().particle_count());
 }
+
+// The tet element pass over every element of the warmed biopsy scene at its own node pressures'
+// stand-in (1 kPa on every node): four elements per vector against eight (AVX-512; the same bits,
+// tests/engine/step/tet_elastic_test.cpp). Skipped where the CPU has no AVX-512.
+void BM_TetElementForces(benchmark::State& state) {
+  const int lanes = static_cast<int>(state.range(0));
+  if (lanes == 8 && !tet_element_forces8_available()) {
+    state.SkipWithError("no AVX-512 on this CPU");
+    return;
+  }
+  auto sim = warmed("biopsy");
+  const TetElements& te = sim->model().tets;
+  State& s = sim->state();
+  std::vector<double> p(te.nodes.size(), 1e3);
+  for (auto _ : state) {
+    if (lanes == 8) tet_element_forces8(te, s.x.data(), p.data(), nullptr, 0, te.count(), 1.0, s.f.data());
+    else tet_element_forces4(te, s.x.data(), p.data(), nullptr, 0, te.count(), 1.0, s.f.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["per_element"] = benchmark::Counter(te.count(), benchmark::Counter::kIsIterationInvariantRate |
+                                                                      benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_TetElementForces)->Arg(4)->Arg(8)->Unit(benchmark::kMicrosecond);
 
 constexpr auto kOpt = BM_ShapeMemoryImpl<add_shape_memory_forces>;
 constexpr auto kRef = BM_ShapeMemoryImpl<reference_add_shape_memory_forces>;

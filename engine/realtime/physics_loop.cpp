@@ -37,6 +37,20 @@ double quantile(const std::array<float, N>& v, int n, double p) {
   std::nth_element(c.begin(), c.begin() + k, c.begin() + n);
   return c[k];
 }
+// p-quantile of a histogram of 10 us bins [ms] (the upper edge of the bin it falls in)
+template <size_t N>
+double hist_quantile(const std::array<int64_t, N>& h, double p) {
+  int64_t n = 0;
+  for (int64_t c : h) n += c;
+  if (n == 0) return 0.0;
+  const int64_t k = std::min<int64_t>(n - 1, static_cast<int64_t>(p * (n - 1) + 0.5));
+  int64_t seen = 0;
+  for (size_t b = 0; b < N; ++b) {
+    seen += h[b];
+    if (seen > k) return (b + 1) * 0.01;
+  }
+  return N * 0.01;
+}
 }  // namespace
 
 PhysicsLoop::PhysicsLoop(Simulation& sim, LoopOptions opt) : opt_(opt), runner_(sim) {
@@ -166,6 +180,9 @@ void PhysicsLoop::update_window(double now, bool force) {
     t.tick_max_ms = quantile(tick_ms_, window_n_, 1.0);
     t.jitter_ms = window_n_ > 1 ? quantile(interval_ms_, window_n_, 0.99) - quantile(interval_ms_, window_n_, 0.5) : 0.0;
   }
+  t.run_tick_p50_ms = hist_quantile(run_hist_, 0.5);
+  t.run_tick_p99_ms = hist_quantile(run_hist_, 0.99);
+  t.run_tick_max_ms = run_max_ms_;
   t.target_factor = factor();
   t.overruns = overruns_;
   t.reanchors = reanchors_;
@@ -226,6 +243,8 @@ void PhysicsLoop::thread_loop() {
         have_fault_state_ = false;
       }
       tick_.store(0, std::memory_order_release);
+      run_hist_.fill(0);
+      run_max_ms_ = 0.0;
       faulted_.store(false, std::memory_order_release);
       skipped_unread_ = false;
       publish();
@@ -264,7 +283,10 @@ void PhysicsLoop::thread_loop() {
     const bool ok = runner_.step(sample ? &stage_timer : nullptr);
     const double done = wall_s();
     const double period = dt / f;
-    if (window_n_ < kWindow) tick_ms_[window_n_++] = static_cast<float>((done - start) * 1e3);
+    const double tick_ms = (done - start) * 1e3;
+    if (window_n_ < kWindow) tick_ms_[window_n_++] = static_cast<float>(tick_ms);
+    ++run_hist_[std::min(kRunBins - 1, static_cast<int>(tick_ms * 100.0))];
+    run_max_ms_ = std::max(run_max_ms_, tick_ms);
     if (done - start > period) ++overruns_;
     tick_.store(runner_.tick(), std::memory_order_release);
     if (!ok) {  // the fault path may allocate: the physics stops here

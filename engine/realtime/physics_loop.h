@@ -43,6 +43,8 @@ struct LoopTiming {
   double tick_p99_ms = 0.0;
   double tick_max_ms = 0.0;
   double jitter_ms = 0.0;          // p99 - p50 of the interval between tick starts, last window [ms]
+  // the same over every tick since start (or reset), from a histogram of 10 us bins [ms]
+  double run_tick_p50_ms = 0.0, run_tick_p99_ms = 0.0, run_tick_max_ms = 0.0;
   int64_t overruns = 0;            // ticks whose compute exceeded their period (since start)
   int64_t reanchors = 0;           // times the loop gave up catching up (slow motion)
   double publish_ms = 0.0;         // mean snapshot fill + publish per tick, last window [ms]
@@ -146,6 +148,10 @@ class PhysicsLoop {
   // timing window (physics thread)
   static constexpr int kWindow = 2048;
   std::array<float, kWindow> tick_ms_{}, interval_ms_{};
+  // every tick's compute time since start or reset: 10 us bins, the last one open-ended
+  static constexpr int kRunBins = 2000;
+  std::array<int64_t, kRunBins> run_hist_{};
+  double run_max_ms_ = 0.0;
   int window_n_ = 0;
   bool window_reported_ = false;   // a whole window's figures are in timing_ (the closing update keeps them)
   double window_start_ = 0.0;      // wall [s]

@@ -79,6 +79,13 @@ void add_tet_element_forces(const TetElements& te, const Vec3* x, const double* 
 // themselves, read from TetElements::g4 from the first block boundary on), forces times scale
 void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale,
                         Vec3* f);
+// its two vector widths (tet_element_forces picks one; tests compare both with the scalar pass):
+// four elements per vector (any x86-64), eight (only where tet_element_forces8_available())
+void tet_element_forces4(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale,
+                         Vec3* f);
+void tet_element_forces8(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale,
+                         Vec3* f);
+bool tet_element_forces8_available();
 // integrate.cpp: symplectic Euler with implicit velocity damping v /= (1 + c dt)
 void integrate(const Model& m, State& s, double dt);
 // tet_pressure.cpp: the implicit nodal pressure of `pressure: implicit` tet nodes (Model::tet_pressure)

@@ -112,6 +112,11 @@ TEST(PhysicsLoop, TooHeavyForTheFactorRunsInReportedSlowMotionWithoutCatchingUp)
   EXPECT_GT(t.realtime_factor, 0.0);
   EXPECT_GT(t.tick_p50_ms, 0.0);
   EXPECT_GE(t.tick_p99_ms, t.tick_p50_ms);
+  // the whole run's figures (10 us bins, a quantile read as its bin's upper edge) cover the window's
+  EXPECT_GT(t.run_tick_p50_ms, 0.0);
+  EXPECT_GE(t.run_tick_p99_ms, t.run_tick_p50_ms);
+  EXPECT_LE(t.run_tick_p99_ms, t.run_tick_max_ms + 0.01 + 1e-9);
+  EXPECT_GE(t.run_tick_max_ms, t.tick_max_ms - 1e-3);
   double stages = 0;
   for (double s : t.stage_ms) stages += s;
   EXPECT_GT(stages, 0.0);         // per-stage times were sampled

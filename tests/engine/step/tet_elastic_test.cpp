@@ -119,6 +119,43 @@ TEST(TetElasticForce, BlockedRangesEqualTheScalarPassBitForBit) {
   }
 }
 
+TEST(TetElasticForce, FourAndEightLanesEqualTheScalarPassBitForBit) {
+  // the pass four elements per vector and eight per vector (AVX-512, where the CPU has it; else the
+  // eight-lane entry runs the four-lane pass) against one element at a time: ranges with blocks of
+  // eight, a last block of four and a scalar tail, a head inside a block, and an element list
+  auto m = test::compile_text(kCylinderYaml);
+  const TetElements& te = m->tets;
+  ASSERT_GT(te.count(), 40);
+  State s = make_state(*m);
+  std::mt19937 rng(17);
+  std::normal_distribution<double> N(0.0, 0.8e-3);
+  for (int p = 0; p < m->particle_count(); ++p) s.x[p] = m->rest_pos[p] + Vec3(N(rng), N(rng), N(rng));
+  std::vector<double> p(te.nodes.size(), 0.0);
+  add_tet_node_volumes(te, s.x.data(), nullptr, te.count(), p.data());
+  tet_node_pressures(te, p.data());
+  for (double& q : p) q += 1e3;
+  const int n = m->particle_count(), nt = te.count();
+  std::vector<int> list;  // every third element, ascending (a sleeping scene's evaluated ones)
+  for (int t = 0; t < nt; t += 3) list.push_back(t);
+  const int nl = static_cast<int>(list.size());
+  struct Range { const int* list; int begin, end; };
+  for (const Range& r : {Range{nullptr, 0, nt}, Range{nullptr, 0, 13}, Range{nullptr, 3, 29}, Range{nullptr, 4, 16},
+                         Range{nullptr, 1, nt - 1}, Range{list.data(), 0, nl}, Range{list.data(), 2, nl - 5}}) {
+    std::vector<Vec3> four(n, Vec3::Zero()), eight(n, Vec3::Zero()), one(n, Vec3::Zero());
+    tet_element_forces4(te, s.x.data(), p.data(), r.list, r.begin, r.end, 0.5, four.data());
+    tet_element_forces8(te, s.x.data(), p.data(), r.list, r.begin, r.end, 0.5, eight.data());
+    for (int k = r.begin; k < r.end; ++k) {
+      const int t = r.list ? r.list[k] : k;
+      tet_element_forces(te, s.x.data(), p.data(), &t, 0, 1, 0.5, one.data());
+    }
+    int differing = 0;
+    for (int q = 0; q < n; ++q)
+      for (int a = 0; a < 3; ++a) differing += (four[q][a] != one[q][a]) + (eight[q][a] != one[q][a]);
+    EXPECT_EQ(differing, 0) << (r.list ? "list " : "elements ") << "[" << r.begin << ", " << r.end << ")";
+  }
+  if (!tet_element_forces8_available()) std::printf("no AVX-512 here: the eight-lane entry ran the four-lane pass\n");
+}
+
 TEST(TetElasticForce, GatheredNodeVolumesEqualTheScatterBitForBit) {
   // the node volumes of the fast group, the slow group and all elements are summed per node over
   // its element list in element order, four nodes side by side (TetElements::gather_elem, padded
