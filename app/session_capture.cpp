@@ -98,7 +98,11 @@ Score SessionCapture::write(const std::string& dir, bool faulted, const std::str
   // in time order (a replaced slot may hold a later event than the next one)
   std::array<int, kPunctureShots> order{};
   for (int k = 0; k < shots_used_; ++k) order[static_cast<size_t>(k)] = k;
-  std::sort(order.begin(), order.begin() + shots_used_, [&](int a, int b) { return shots_[static_cast<size_t>(a)].time < shots_[static_cast<size_t>(b)].time; });
+  // insertion sort of at most kPunctureShots entries (std::sort here trips a false -Warray-bounds
+  // in GCC 12's unrolled insertion step)
+  for (int k = 1; k < shots_used_; ++k)
+    for (int j = k; j > 0 && shots_[static_cast<size_t>(order[j])].time < shots_[static_cast<size_t>(order[j - 1])].time; --j)
+      std::swap(order[static_cast<size_t>(j)], order[static_cast<size_t>(j - 1)]);
   for (int k = 0; k < shots_used_; ++k) {
     const Shot& sh = shots_[static_cast<size_t>(order[static_cast<size_t>(k)])];
     PunctureShot p;
