@@ -144,6 +144,22 @@ void node_volumes(const TetElements& te, const std::vector<Vec3>& x, double* q, 
   add_node_volumes(te, x, 0, te.count(), q, vol);
 }
 
+// C = cof F for a scalar or a vector of lanes (the scalar pass and element_forces_block share it, so
+// each lane does the scalar pass's operations): columns col0 = F.col1 x F.col2, col1 = F.col2 x
+// F.col0, col2 = F.col0 x F.col1
+template <class T>
+__attribute__((always_inline)) inline void cofactor(const T (&F)[3][3], T (&C)[3][3]) {
+  C[0][0] = F[1][1] * F[2][2] - F[2][1] * F[1][2];
+  C[1][0] = F[2][1] * F[0][2] - F[0][1] * F[2][2];
+  C[2][0] = F[0][1] * F[1][2] - F[1][1] * F[0][2];
+  C[0][1] = F[1][2] * F[2][0] - F[2][2] * F[1][0];
+  C[1][1] = F[2][2] * F[0][0] - F[0][2] * F[2][0];
+  C[2][1] = F[0][2] * F[1][0] - F[1][2] * F[0][0];
+  C[0][2] = F[1][0] * F[2][1] - F[2][0] * F[1][1];
+  C[1][2] = F[2][0] * F[0][1] - F[0][0] * F[2][1];
+  C[2][2] = F[0][0] * F[1][1] - F[1][0] * F[0][1];
+}
+
 // The element pass in plain scalars (no Eigen temporaries): F, its cofactor and
 // P = V0 (mu F + (pbar - mu) cof F) stay in registers; about half the time of the Mat3 form.
 // Elements [begin, end); node pressures p [Pa] (indexed like te.nodes); forces times scale added to f.
@@ -168,17 +184,8 @@ inline void element_forces_scalar(const TetElements& te, const Vec3* x, const do
     double F[3][3];  // F[r][c]
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) F[r][c] = e1[r] * g[c] + e2[r] * g[3 + c] + e3[r] * g[6 + c];
-    // columns of cof F: col0 = F.col1 x F.col2, col1 = F.col2 x F.col0, col2 = F.col0 x F.col1
     double C[3][3];
-    C[0][0] = F[1][1] * F[2][2] - F[2][1] * F[1][2];
-    C[1][0] = F[2][1] * F[0][2] - F[0][1] * F[2][2];
-    C[2][0] = F[0][1] * F[1][2] - F[1][1] * F[0][2];
-    C[0][1] = F[1][2] * F[2][0] - F[2][2] * F[1][0];
-    C[1][1] = F[2][2] * F[0][0] - F[0][2] * F[2][0];
-    C[2][1] = F[0][2] * F[1][0] - F[1][2] * F[0][0];
-    C[0][2] = F[1][0] * F[2][1] - F[2][0] * F[1][1];
-    C[1][2] = F[2][0] * F[0][1] - F[0][0] * F[2][1];
-    C[2][2] = F[0][0] * F[1][1] - F[1][0] * F[0][1];
+    cofactor(F, C);
     const double pbar = 0.25 * (p[slot[v[0]]] + p[slot[v[1]]] + p[slot[v[2]]] + p[slot[v[3]]]);
     const double a = scale * vol0[t] * mu_t[t], b = scale * vol0[t] * (pbar - mu_t[t]);
     double P[3][3];  // V0 x first Piola stress [N m]
@@ -275,15 +282,7 @@ __attribute__((always_inline)) inline void element_forces_block(const TetElement
     #pragma GCC unroll 16
     for (int c = 0; c < 3; ++c) F[r][c] = e1[r] * g[c] + e2[r] * g[3 + c] + e3[r] * g[6 + c];
   D C[3][3];
-  C[0][0] = F[1][1] * F[2][2] - F[2][1] * F[1][2];
-  C[1][0] = F[2][1] * F[0][2] - F[0][1] * F[2][2];
-  C[2][0] = F[0][1] * F[1][2] - F[1][1] * F[0][2];
-  C[0][1] = F[1][2] * F[2][0] - F[2][2] * F[1][0];
-  C[1][1] = F[2][2] * F[0][0] - F[0][2] * F[2][0];
-  C[2][1] = F[0][2] * F[1][0] - F[1][2] * F[0][0];
-  C[0][2] = F[1][0] * F[2][1] - F[2][0] * F[1][1];
-  C[1][2] = F[2][0] * F[0][1] - F[0][0] * F[2][1];
-  C[2][2] = F[0][0] * F[1][1] - F[1][0] * F[0][1];
+  cofactor(F, C);
   D ps, sv0, mu;
   lanes_of<L>(ps, [&](int l) {
     const int* w = vl[l];

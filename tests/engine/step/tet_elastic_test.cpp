@@ -59,6 +59,20 @@ TEST(TetElasticForce, IsTheGradientOfTheEnergyAndConservesMomentum) {
   }
 }
 
+// Particles jittered by 0.8 mm about rest (6 mm spacing: large, irregular strains), and node
+// pressures from the resulting volumes plus 1 kPa on every node (also where the material's pressure
+// is implicit): a state where every term of the element force is non-zero.
+void jitter_with_pressure(const Model& m, unsigned seed, State& s, std::vector<double>& p) {
+  const TetElements& te = m.tets;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> N(0.0, 0.8e-3);
+  for (int q = 0; q < m.particle_count(); ++q) s.x[q] = m.rest_pos[q] + Vec3(N(rng), N(rng), N(rng));
+  p.assign(te.nodes.size(), 0.0);
+  add_tet_node_volumes(te, s.x.data(), nullptr, te.count(), p.data());
+  tet_node_pressures(te, p.data());
+  for (double& q : p) q += 1e3;
+}
+
 // The element pass runs four elements per vector (and, on a machine that has them, AVX or
 // AVX-512 clones of that code, chosen at load time); each lane must do the scalar pass's
 // operations in the same order, so that a replay gives the same bits on every machine. Here
@@ -69,13 +83,8 @@ TEST(TetElasticForce, VectorPassEqualsTheScalarPassBitForBit) {
   const TetElements& te = m->tets;
   ASSERT_GT(te.count(), 16);
   State s = make_state(*m);
-  std::mt19937 rng(11);
-  std::normal_distribution<double> N(0.0, 0.8e-3);  // 0.8 mm jitter on a 6 mm spacing: large, irregular strains
-  for (int p = 0; p < m->particle_count(); ++p) s.x[p] = m->rest_pos[p] + Vec3(N(rng), N(rng), N(rng));
-  std::vector<double> p(te.nodes.size(), 0.0);
-  add_tet_node_volumes(te, s.x.data(), nullptr, te.count(), p.data());
-  tet_node_pressures(te, p.data());
-  for (double& q : p) q += 1e3;  // a pressure on every node, also where the material's is implicit
+  std::vector<double> p;
+  jitter_with_pressure(*m, 11, s, p);
   std::vector<Vec3> all(m->particle_count(), Vec3::Zero()), one(m->particle_count(), Vec3::Zero());
   add_tet_element_forces(te, s.x.data(), p.data(), nullptr, te.count(), all.data());
   for (int t = 0; t < te.count(); ++t) add_tet_element_forces(te, s.x.data(), p.data(), &t, 1, one.data());
@@ -99,13 +108,8 @@ TEST(TetElasticForce, BlockedRangesEqualTheScalarPassBitForBit) {
   TetElements unpacked = te;
   unpacked.g4.clear();
   State s = make_state(*m);
-  std::mt19937 rng(5);
-  std::normal_distribution<double> N(0.0, 0.8e-3);
-  for (int p = 0; p < m->particle_count(); ++p) s.x[p] = m->rest_pos[p] + Vec3(N(rng), N(rng), N(rng));
-  std::vector<double> p(te.nodes.size(), 0.0);
-  add_tet_node_volumes(te, s.x.data(), nullptr, te.count(), p.data());
-  tet_node_pressures(te, p.data());
-  for (double& q : p) q += 1e3;
+  std::vector<double> p;
+  jitter_with_pressure(*m, 5, s, p);
   const int n = m->particle_count(), nt = te.count();
   for (const auto& [begin, end] : {std::pair{0, nt}, {1, nt}, {2, nt - 1}, {3, nt - 2}, {5, 7}, {6, 7}, {nt - 3, nt}}) {
     std::vector<Vec3> blocked(n, Vec3::Zero()), gathered(n, Vec3::Zero()), one(n, Vec3::Zero());
@@ -127,13 +131,8 @@ TEST(TetElasticForce, FourAndEightLanesEqualTheScalarPassBitForBit) {
   const TetElements& te = m->tets;
   ASSERT_GT(te.count(), 40);
   State s = make_state(*m);
-  std::mt19937 rng(17);
-  std::normal_distribution<double> N(0.0, 0.8e-3);
-  for (int p = 0; p < m->particle_count(); ++p) s.x[p] = m->rest_pos[p] + Vec3(N(rng), N(rng), N(rng));
-  std::vector<double> p(te.nodes.size(), 0.0);
-  add_tet_node_volumes(te, s.x.data(), nullptr, te.count(), p.data());
-  tet_node_pressures(te, p.data());
-  for (double& q : p) q += 1e3;
+  std::vector<double> p;
+  jitter_with_pressure(*m, 17, s, p);
   const int n = m->particle_count(), nt = te.count();
   std::vector<int> list;  // every third element, ascending (a sleeping scene's evaluated ones)
   for (int t = 0; t < nt; t += 3) list.push_back(t);
