@@ -327,11 +327,12 @@ __attribute__((always_inline)) inline void element_forces_block(const TetElement
   }
 }
 
-// The pass four elements per vector: one AVX register, two SSE2 ones in the baseline build (target
-// clones, chosen at load time). Elements in index order with the blocked copy of g: the elements
-// before the first block boundary go through the scalar pass (the same bits), then whole blocks.
-PS_TARGET_CLONES("avx", "default")
-void tet_element_forces4(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale, Vec3* f) {
+// Elements [begin, end) in blocks of L lanes (L = 8: then one of four), the rest one at a time.
+// Elements in index order with the blocked copy of g: the elements before the first block
+// boundary go through the scalar pass (the same bits), then whole blocks.
+template <int L>
+__attribute__((always_inline)) inline void element_forces_lanes(const TetElements& te, const Vec3* x, const double* p, const int* list,
+                                                                int begin, int end, double scale, Vec3* f) {
   const bool packed = !list && te.g4.size() >= 9 * static_cast<size_t>(end);
   int k = begin;
   if (packed && (k & 3) != 0) {
@@ -339,8 +340,17 @@ void tet_element_forces4(const TetElements& te, const Vec3* x, const double* p, 
     element_forces_scalar(te, x, p, nullptr, k, head, scale, f);
     k = head;
   }
+  if constexpr (L == 8)
+    for (; k + 8 <= end; k += 8) element_forces_block<8>(te, x, p, list, packed, k, scale, f);
   for (; k + 4 <= end; k += 4) element_forces_block<4>(te, x, p, list, packed, k, scale, f);
   element_forces_scalar(te, x, p, list, k, end, scale, f);
+}
+
+// The pass four elements per vector: one AVX register, two SSE2 ones in the baseline build (target
+// clones, chosen at load time).
+PS_TARGET_CLONES("avx", "default")
+void tet_element_forces4(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale, Vec3* f) {
+  element_forces_lanes<4>(te, x, p, list, begin, end, scale, f);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(PROSTATESIM_NO_MULTIVERSION)
@@ -350,16 +360,7 @@ void tet_element_forces4(const TetElements& te, const Vec3* x, const double* p, 
 // pass; the same bits (each lane its operations in its order, the scatter in element order).
 __attribute__((target("arch=x86-64-v4")))
 void tet_element_forces8(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale, Vec3* f) {
-  const bool packed = !list && te.g4.size() >= 9 * static_cast<size_t>(end);
-  int k = begin;
-  if (packed && (k & 3) != 0) {
-    const int head = std::min(end, (k + 3) & ~3);
-    element_forces_scalar(te, x, p, nullptr, k, head, scale, f);
-    k = head;
-  }
-  for (; k + 8 <= end; k += 8) element_forces_block<8>(te, x, p, list, packed, k, scale, f);
-  for (; k + 4 <= end; k += 4) element_forces_block<4>(te, x, p, list, packed, k, scale, f);
-  element_forces_scalar(te, x, p, list, k, end, scale, f);
+  element_forces_lanes<8>(te, x, p, list, begin, end, scale, f);
 }
 #else
 // no AVX-512 build (sanitizers, other compilers): the four-lane pass, the same bits
