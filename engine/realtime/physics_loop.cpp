@@ -285,7 +285,7 @@ void PhysicsLoop::thread_loop() {
     const double period = dt / f;
     const double tick_ms = (done - start) * 1e3;
     if (window_n_ < kWindow) tick_ms_[window_n_++] = static_cast<float>(tick_ms);
-    ++run_hist_[std::min(kRunBins - 1, static_cast<int>(tick_ms * 100.0))];
+    ++run_hist_[static_cast<int>(std::min(tick_ms * 100.0, kRunBins - 1.0))];  // clamped before the cast (a tick held for hours)
     run_max_ms_ = std::max(run_max_ms_, tick_ms);
     if (done - start > period) ++overruns_;
     tick_.store(runner_.tick(), std::memory_order_release);

@@ -258,7 +258,7 @@ __attribute__((always_inline)) inline void element_forces_block(const TetElement
   const int* vl[L];  // vl[l][i]: lane l's vertex i
   #pragma GCC unroll 16
   for (int l = 0; l < L; ++l) vl[l] = vv + 4 * id[l];
-  D e1[3], e2[3], e3[3], g[9] = {};
+  D e1[3], e2[3], e3[3], g[9] = {};  // g zeroed: GCC 12 cannot see that both branches below fill it (-Wmaybe-uninitialized)
   #pragma GCC unroll 16
   for (int r = 0; r < 3; ++r) {
     D xi[4];  // coordinate r of vertex i in each lane
