@@ -61,6 +61,31 @@ void BM_TetElementForces(benchmark::State& state) {
 }
 BENCHMARK(BM_TetElementForces)->Arg(4)->Arg(8)->Unit(benchmark::kMicrosecond);
 
+// A range's node volumes then its element forces, as the step runs them, on the warmed biopsy
+// scene: the force pass gathering the positions again (arg 0) against reading the edges the
+// volume pass kept (arg 1; State::tet_edges, the same bits); range 0 all elements, 1 the fast
+// group, 2 the slow group (multi-rate).
+void BM_TetRangePass(benchmark::State& state) {
+  const bool edges = state.range(0) != 0;
+  const int range = static_cast<int>(state.range(1));
+  auto sim = warmed("biopsy");
+  const TetElements& te = sim->model().tets;
+  State& s = sim->state();
+  const int nt = te.count(), nf = te.fast_count;
+  const int begin = range == 2 ? nf : 0, end = range == 1 ? nf : nt;
+  std::vector<double> p(te.nodes.size(), 0.0);
+  for (auto _ : state) {
+    for (double& v : p) v = 0.0;
+    const bool kept = add_tet_range_volumes(te, s.x.data(), begin, end, s.tet_quarter.data(), p.data(), edges ? s.tet_edges.data() : nullptr);
+    tet_node_pressures(te, p.data());
+    tet_element_forces(te, s.x.data(), p.data(), nullptr, begin, end, 1.0, s.f.data(), kept ? s.tet_edges.data() : nullptr);
+    benchmark::ClobberMemory();
+  }
+  state.counters["per_element"] = benchmark::Counter(end - begin, benchmark::Counter::kIsIterationInvariantRate |
+                                                                       benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_TetRangePass)->ArgsProduct({{0, 1}, {0, 1, 2}})->Unit(benchmark::kMicrosecond);
+
 constexpr auto kOpt = BM_ShapeMemoryImpl<add_shape_memory_forces>;
 constexpr auto kRef = BM_ShapeMemoryImpl<reference_add_shape_memory_forces>;
 constexpr auto kBase = BM_ShapeMemoryImpl<detail::add_shape_memory_forces_baseline>;

@@ -21,6 +21,7 @@ State make_state(const Model& model) {
   s.tet_node_vol.assign(model.tets.nodes.size(), 0.0);
   // with the -0.0 padding slot of the node volumes' gather at the end (TetElements::gather_elem)
   s.tet_quarter.assign(model.tets.count() + 1, -0.0);
+  s.tet_edges.assign(9 * static_cast<size_t>(model.tets.count()), 0.0);
   if (const int k = model.tet_pressure.size(); k > 0) {
     s.pressure_rhs.assign(k, 0.0);
     s.pressure_work.assign(k, 0.0);

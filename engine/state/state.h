@@ -55,6 +55,8 @@ struct State {
                                         // tet node, then its pressure kappa (J_n - 1) [m^3] / [Pa]
   std::vector<double> tet_quarter;      // [Model::tets elements + 1] scratch: each element's volume share
                                         // V_t / 4 [m^3] (the node volumes gather them, tet_elastic.cpp)
+  std::vector<double> tet_edges;        // [9 Model::tets elements] scratch: each element's edges x_{j+1} - x_0
+                                        // as the node volumes measured them, for the force pass [m]
   std::vector<double> tet_slow_vol;     // [Model::tets.nodes] multi-rate scratch: volume share of the
                                         // slow elements at the tick's first substep [m^3]
   std::vector<Vec3> tet_slow_f;         // [n] multi-rate (symmetric split): the slow elements' force at

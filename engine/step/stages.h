@@ -61,7 +61,9 @@ void add_tet_node_volumes(const TetElements& te, const Vec3* x, const int* list,
 // tet_elastic.cpp: q[t] = V_t / 4 of the elements [begin, end) whose four particles are
 // vv[4 t .. 4 t + 3] [m^3]: TetElements::v (the node volumes gather them) or the implicit
 // pressure's contiguous copy TetPressure::tet_v
-void tet_quarters(const int* vv, const Vec3* x, int begin, int end, double* q);
+// edges (optional): the elements' edges x_{j+1} - x_0 too, coordinate r of edge j of element t at
+// edges[(3 j + r) stride + t] [m] (the element pass reads them instead of the positions)
+void tet_quarters(const int* vv, const Vec3* x, int begin, int end, double* q, double* edges = nullptr, size_t stride = 0);
 // tet_pressure.cpp: the implicit pressure's correction before the mass weighting, dx += J^T dl,
 // for the elements [0, ntp) of TetPressure::tet_v / tet_row (dl [k] the multiplier step [kg/m],
 // dx [m kg]); four elements per vector, the same bits as one element at a time
@@ -69,8 +71,10 @@ void pressure_corrections(const int* tv, const int* trow, int ntp, const double*
 // tet_elastic.cpp: adds the volume shares of the elements [begin, end) to vol [m^3], gathered per
 // node when the range is the fast group, the slow group or all (q: [nt + 1] scratch, q[nt] = -0.0,
 // the gather's padding), else scattered;
-// the same bits as add_tet_node_volumes over the same elements
-void add_tet_range_volumes(const TetElements& te, const Vec3* x, int begin, int end, double* q, double* vol);
+// the same bits as add_tet_node_volumes over the same elements. edges (optional, [9 nt], stride nt):
+// the gathered ranges' edges as tet_quarters writes them; true when it wrote them
+bool add_tet_range_volumes(const TetElements& te, const Vec3* x, int begin, int end, double* q, double* vol,
+                           double* edges = nullptr);
 // tet_elastic.cpp: node volume shares vol [m^3] -> node pressures kappa (J_n - 1) [Pa], in place
 void tet_node_pressures(const TetElements& te, double* vol);
 // tet_elastic.cpp: the force of elements list[0..count), with node pressures p [Pa], added to f
@@ -78,13 +82,13 @@ void add_tet_element_forces(const TetElements& te, const Vec3* x, const double* 
 // tet_elastic.cpp: the same for elements list[begin..end) (list null: the elements begin..end-1
 // themselves, read from TetElements::g4 from the first block boundary on), forces times scale
 void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale,
-                        Vec3* f);
+                        Vec3* f, const double* ed = nullptr);
 // its two vector widths (tet_element_forces picks one; tests compare both with the scalar pass):
 // four elements per vector (any x86-64), eight (only where tet_element_forces8_available())
 void tet_element_forces4(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale,
-                         Vec3* f);
+                         Vec3* f, const double* ed = nullptr);
 void tet_element_forces8(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale,
-                         Vec3* f);
+                         Vec3* f, const double* ed = nullptr);
 bool tet_element_forces8_available();
 // integrate.cpp: symplectic Euler with implicit velocity damping v /= (1 + c dt)
 void integrate(const Model& m, State& s, double dt);

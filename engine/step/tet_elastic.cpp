@@ -74,13 +74,19 @@ void add_volume_shares(const TetElements& te, const Vec3* x, const int* list, in
 // per vector (each lane its operations in its order: Eigen's dot is (x0 y0 + x1 y1) + x2 y2; the
 // division by 24 one vector division), the rest one at a time. The same bits either way.
 PS_TARGET_CLONES("arch=x86-64-v4", "avx", "default")
-void tet_quarters(const int* vv, const Vec3* x, int begin, int end, double* q) {
+void tet_quarters(const int* vv, const Vec3* x, int begin, int end, double* q, double* edges, size_t stride) {
   typedef double D4 __attribute__((vector_size(32)));
   typedef double U4 __attribute__((vector_size(32), aligned(8), may_alias));
   int t = begin;
   for (; t + 4 <= end; t += 4) {
     D4 e[3][3];  // e[j][r]: edge x_{j+1} - x_0, coordinate r
     tet_edges4(x, vv + 4 * t, e);
+    if (edges) {
+      #pragma GCC unroll 9
+      for (int j = 0; j < 3; ++j)
+        #pragma GCC unroll 3
+        for (int r = 0; r < 3; ++r) *reinterpret_cast<U4*>(edges + (3 * j + r) * stride + t) = e[j][r];
+    }
     const D4 c0 = e[1][1] * e[2][2] - e[1][2] * e[2][1];
     const D4 c1 = e[1][2] * e[2][0] - e[1][0] * e[2][2];
     const D4 c2 = e[1][0] * e[2][1] - e[1][1] * e[2][0];
@@ -90,6 +96,9 @@ void tet_quarters(const int* vv, const Vec3* x, int begin, int end, double* q) {
     const int* v = vv + 4 * t;
     const Vec3 x0 = x[v[0]];
     q[t] = (x[v[1]] - x0).dot((x[v[2]] - x0).cross(x[v[3]] - x0)) / 24.0;
+    if (edges)
+      for (int j = 0; j < 3; ++j)
+        for (int r = 0; r < 3; ++r) edges[(3 * j + r) * stride + t] = x[v[j + 1]][r] - x0[r];
   }
 }
 
@@ -100,16 +109,16 @@ void tet_quarters(const int* vv, const Vec3* x, int begin, int end, double* q) {
 // node's running sum stays in a register instead of going through memory once per element (the
 // scatter's adds into a shared node form a chain of stores and reloads), and four nodes' sums run
 // side by side (padded with q[nt]: x + -0.0 == x). Other ranges, or no q: the scatter.
-void add_tet_range_volumes(const TetElements& te, const Vec3* x, int begin, int end, double* q, double* vol) {
+bool add_tet_range_volumes(const TetElements& te, const Vec3* x, int begin, int end, double* q, double* vol, double* edges) {
   const int nt = te.count(), nf = te.fast_count;
   const int nn = static_cast<int>(te.nodes.size());
   const bool lists = q && te.gather_ranges() == 3;
   const int which = !lists ? -1 : (begin == 0 && end == nt) ? 0 : (begin == 0 && end == nf) ? 1 : (begin == nf && end == nt) ? 2 : -1;
   if (which < 0) {
     add_volume_shares(te, x, nullptr, begin, end, vol);
-    return;
+    return false;
   }
-  tet_quarters(te.v.data(), x, begin, end, q);
+  tet_quarters(te.v.data(), x, begin, end, q, edges, static_cast<size_t>(nt));
   // four nodes at a time (TetElements::gather_elem): four independent running sums
   const int* bs = te.gather_start[which].data();
   const int* ge = te.gather_elem[which].data();
@@ -129,19 +138,21 @@ void add_tet_range_volumes(const TetElements& te, const Vec3* x, int begin, int 
     if (lanes > 2) v[2] = s2;
     if (lanes > 3) v[3] = s3;
   }
+  return edges != nullptr;
 }
 
 namespace {
 
-inline void add_node_volumes(const TetElements& te, const std::vector<Vec3>& x, int begin, int end, double* q, double* vol) {
-  add_tet_range_volumes(te, x.data(), begin, end, q, vol);
+inline bool add_node_volumes(const TetElements& te, const std::vector<Vec3>& x, int begin, int end, double* q, double* vol,
+                             double* edges = nullptr) {
+  return add_tet_range_volumes(te, x.data(), begin, end, q, vol, edges);
 }
 
 // current volume share V_n of every tet node into vol (indexed like te.nodes); q: as add_node_volumes
-void node_volumes(const TetElements& te, const std::vector<Vec3>& x, double* q, double* vol) {
+bool node_volumes(const TetElements& te, const std::vector<Vec3>& x, double* q, double* vol, double* edges = nullptr) {
   const int nn = static_cast<int>(te.nodes.size());
   for (int a = 0; a < nn; ++a) vol[a] = 0.0;
-  add_node_volumes(te, x, 0, te.count(), q, vol);
+  return add_node_volumes(te, x, 0, te.count(), q, vol, edges);
 }
 
 // C = cof F for a scalar or a vector of lanes (the scalar pass and element_forces_block share it, so
@@ -245,7 +256,7 @@ __attribute__((always_inline)) inline void load_fours(V& out, const double* lo, 
 
 template <int L>
 __attribute__((always_inline)) inline void element_forces_block(const TetElements& te, const Vec3* x, const double* p, const int* list,
-                                                                bool packed, int k, double scale, Vec3* f) {
+                                                                bool packed, int k, double scale, Vec3* f, const double* ed) {
   typedef typename LaneVector<L>::type D;
   const int* vv = te.v.data();
   const int* slot = te.node_slot.data();
@@ -259,14 +270,25 @@ __attribute__((always_inline)) inline void element_forces_block(const TetElement
   #pragma GCC unroll 16
   for (int l = 0; l < L; ++l) vl[l] = vv + 4 * id[l];
   D e1[3], e2[3], e3[3], g[9] = {};  // g zeroed: GCC 12 cannot see that both branches below fill it (-Wmaybe-uninitialized)
-  #pragma GCC unroll 16
-  for (int r = 0; r < 3; ++r) {
-    D xi[4];  // coordinate r of vertex i in each lane
+  if (ed) {  // the edges the node volumes just measured at these positions (the same subtractions)
+    typedef double UL __attribute__((vector_size(8 * L), aligned(8), may_alias));
+    const size_t stride = static_cast<size_t>(te.count());
     #pragma GCC unroll 16
-    for (int i = 0; i < 4; ++i) lanes_of<L>(xi[i], [&](int l) { return x[vl[l][i]][r]; });
-    e1[r] = xi[1] - xi[0];
-    e2[r] = xi[2] - xi[0];
-    e3[r] = xi[3] - xi[0];
+    for (int r = 0; r < 3; ++r) {
+      e1[r] = *reinterpret_cast<const UL*>(ed + r * stride + k);
+      e2[r] = *reinterpret_cast<const UL*>(ed + (3 + r) * stride + k);
+      e3[r] = *reinterpret_cast<const UL*>(ed + (6 + r) * stride + k);
+    }
+  } else {
+    #pragma GCC unroll 16
+    for (int r = 0; r < 3; ++r) {
+      D xi[4];  // coordinate r of vertex i in each lane
+      #pragma GCC unroll 16
+      for (int i = 0; i < 4; ++i) lanes_of<L>(xi[i], [&](int l) { return x[vl[l][i]][r]; });
+      e1[r] = xi[1] - xi[0];
+      e2[r] = xi[2] - xi[0];
+      e3[r] = xi[3] - xi[0];
+    }
   }
   if (packed) {
     const double* gb = te.g4.data() + 9 * k;  // block k / 4 (and, for eight lanes, the next one)
@@ -332,8 +354,9 @@ __attribute__((always_inline)) inline void element_forces_block(const TetElement
 // boundary go through the scalar pass (the same bits), then whole blocks.
 template <int L>
 __attribute__((always_inline)) inline void element_forces_lanes(const TetElements& te, const Vec3* x, const double* p, const int* list,
-                                                                int begin, int end, double scale, Vec3* f) {
+                                                                int begin, int end, double scale, Vec3* f, const double* ed) {
   const bool packed = !list && te.g4.size() >= 9 * static_cast<size_t>(end);
+  if (list) ed = nullptr;
   int k = begin;
   if (packed && (k & 3) != 0) {
     const int head = std::min(end, (k + 3) & ~3);
@@ -341,16 +364,17 @@ __attribute__((always_inline)) inline void element_forces_lanes(const TetElement
     k = head;
   }
   if constexpr (L == 8)
-    for (; k + 8 <= end; k += 8) element_forces_block<8>(te, x, p, list, packed, k, scale, f);
-  for (; k + 4 <= end; k += 4) element_forces_block<4>(te, x, p, list, packed, k, scale, f);
+    for (; k + 8 <= end; k += 8) element_forces_block<8>(te, x, p, list, packed, k, scale, f, ed);
+  for (; k + 4 <= end; k += 4) element_forces_block<4>(te, x, p, list, packed, k, scale, f, ed);
   element_forces_scalar(te, x, p, list, k, end, scale, f);
 }
 
 // The pass four elements per vector: one AVX register, two SSE2 ones in the baseline build (target
 // clones, chosen at load time).
 PS_TARGET_CLONES("avx", "default")
-void tet_element_forces4(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale, Vec3* f) {
-  element_forces_lanes<4>(te, x, p, list, begin, end, scale, f);
+void tet_element_forces4(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale, Vec3* f,
+                         const double* ed) {
+  element_forces_lanes<4>(te, x, p, list, begin, end, scale, f, ed);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(PROSTATESIM_NO_MULTIVERSION)
@@ -359,13 +383,15 @@ void tet_element_forces4(const TetElements& te, const Vec3* x, const double* p, 
 // registers, so F, cof F, P and g stay in them): half the arithmetic instructions of the four-lane
 // pass; the same bits (each lane its operations in its order, the scatter in element order).
 __attribute__((target("arch=x86-64-v4")))
-void tet_element_forces8(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale, Vec3* f) {
-  element_forces_lanes<8>(te, x, p, list, begin, end, scale, f);
+void tet_element_forces8(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale, Vec3* f,
+                         const double* ed) {
+  element_forces_lanes<8>(te, x, p, list, begin, end, scale, f, ed);
 }
 #else
 // no AVX-512 build (sanitizers, other compilers): the four-lane pass, the same bits
-void tet_element_forces8(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale, Vec3* f) {
-  tet_element_forces4(te, x, p, list, begin, end, scale, f);
+void tet_element_forces8(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale, Vec3* f,
+                         const double* ed) {
+  tet_element_forces4(te, x, p, list, begin, end, scale, f, ed);
 }
 #endif
 
@@ -382,15 +408,16 @@ bool tet_element_forces8_available() {
 // the CPU has AVX-512 (10-13 % less time per element than four, bench BM_TetElementForces), else
 // four; bit-identical either way (tested against the scalar pass).
 void tet_element_forces(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale,
-                        Vec3* f) {
-  if (tet_element_forces8_available()) tet_element_forces8(te, x, p, list, begin, end, scale, f);
-  else tet_element_forces4(te, x, p, list, begin, end, scale, f);
+                        Vec3* f, const double* ed) {
+  if (tet_element_forces8_available()) tet_element_forces8(te, x, p, list, begin, end, scale, f, ed);
+  else tet_element_forces4(te, x, p, list, begin, end, scale, f, ed);
 }
 
 namespace {
 
-inline void element_forces(const TetElements& te, const Vec3* x, const double* p, int begin, int end, double scale, Vec3* f) {
-  tet_element_forces(te, x, p, nullptr, begin, end, scale, f);
+inline void element_forces(const TetElements& te, const Vec3* x, const double* p, int begin, int end, double scale, Vec3* f,
+                           const double* ed = nullptr) {
+  tet_element_forces(te, x, p, nullptr, begin, end, scale, f, ed);
 }
 
 // The slow elements' force at the current positions into s.tet_slow_f, with their volume shares
@@ -402,13 +429,14 @@ void slow_force_now(const Model& m, State& s) {
   double* vs = s.tet_slow_vol.data();
   double* p = s.tet_node_vol.data();
   double* q = s.tet_quarter.size() > static_cast<size_t>(nt) ? s.tet_quarter.data() : nullptr;  // with its -0.0 slot
+  double* ed = q ? s.tet_edges.data() : nullptr;
   for (int a = 0; a < nn; ++a) vs[a] = 0.0;
-  add_node_volumes(te, s.x, nf, nt, q, vs);
+  const bool measured = add_node_volumes(te, s.x, nf, nt, q, vs, ed);
   for (int a = 0; a < nn; ++a) p[a] = vs[a];
   add_node_volumes(te, s.x, 0, nf, q, p);
   tet_node_pressures(te, p);
   for (Vec3& f : s.tet_slow_f) f.setZero();
-  element_forces(te, s.x.data(), p, nf, nt, 1.0, s.tet_slow_f.data());
+  element_forces(te, s.x.data(), p, nf, nt, 1.0, s.tet_slow_f.data(), measured ? ed : nullptr);
   s.tet_slow_f_valid = 1;
 }
 
@@ -460,8 +488,11 @@ void add_tet_elastic_forces(const Model& m, State& s, TetPass pass, int substeps
   }
   const bool split = te.multirate() && pass != TetPass::All;
   double* q = s.tet_quarter.size() > static_cast<size_t>(nt) ? s.tet_quarter.data() : nullptr;  // with its -0.0 slot
+  // the edges of the elements whose volumes are gathered, for their force pass (tet_edges)
+  double* ed = q && s.tet_edges.size() >= 9 * static_cast<size_t>(nt) ? s.tet_edges.data() : nullptr;
+  bool fast_ed = false, slow_ed = false;  // edges measured at these positions: [0, nf) / [nf, nt) or all
   if (!split) {
-    node_volumes(te, s.x, q, p);
+    fast_ed = slow_ed = node_volumes(te, s.x, q, p, ed);
   } else {
     // the slow elements' volume shares are measured with their force (the last tick's end) and
     // held: the pressure of a node between both groups mixes the held and the current shares
@@ -472,20 +503,22 @@ void add_tet_elastic_forces(const Model& m, State& s, TetPass pass, int substeps
     double* vs = s.tet_slow_vol.data();
     if (pass == TetPass::FastOnly || pass == TetPass::SlowOnly) {
       for (int a = 0; a < nn; ++a) vs[a] = 0.0;
-      add_node_volumes(te, s.x, nf, nt, q, vs);
+      slow_ed = add_node_volumes(te, s.x, nf, nt, q, vs, ed);
     }
     for (int a = 0; a < nn; ++a) p[a] = vs[a];
-    add_node_volumes(te, s.x, 0, nf, q, p);
+    fast_ed = add_node_volumes(te, s.x, 0, nf, q, p, ed);
   }
+  const double* fe = fast_ed ? ed : nullptr;
+  const double* se = slow_ed ? ed : nullptr;
   tet_node_pressures(te, p);
   const Vec3* x = s.x.data();
   Vec3* f = s.f.data();
   switch (pass) {
-    case TetPass::All: element_forces(te, x, p, 0, nt, 1.0, f); return;
-    case TetPass::FastOnly: element_forces(te, x, p, 0, nf, 1.0, f); return;
-    case TetPass::SlowOnly: element_forces(te, x, p, nf, nt, 1.0, f); return;
+    case TetPass::All: element_forces(te, x, p, 0, nt, 1.0, f, fe); return;
+    case TetPass::FastOnly: element_forces(te, x, p, 0, nf, 1.0, f, fe); return;
+    case TetPass::SlowOnly: element_forces(te, x, p, nf, nt, 1.0, f, se); return;
     case TetPass::Held: {
-      element_forces(te, x, p, 0, nf, 1.0, f);
+      element_forces(te, x, p, 0, nf, 1.0, f, fe);
       for (size_t q = 0; q < s.tet_slow_hold.size(); ++q) f[q] += s.tet_slow_hold[q];
       return;
     }
@@ -501,7 +534,7 @@ void add_tet_elastic_forces(const Model& m, State& s, TetPass pass, int substeps
       // steady pull of its fast ones, kept an orbit within the tick (14 mm/s on the biopsy scene
       // after 1 s). H follows the slow force (kSlowHoldRate per tick), so at rest the kicks
       // vanish and the tick is the plain substep loop under a constant load: exactly at rest.
-      element_forces(te, x, p, 0, nf, 1.0, f);
+      element_forces(te, x, p, 0, nf, 1.0, f, fe);
       const double k = 0.5 * substeps;
       for (size_t q = 0; q < s.tet_slow_f.size(); ++q) f[q] += k * (s.tet_slow_f[q] - s.tet_slow_hold[q]) + s.tet_slow_hold[q];
       return;

@@ -4,6 +4,7 @@
 // and collapsed bodies, and no allocation in the step.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -153,6 +154,49 @@ TEST(TetElasticForce, FourAndEightLanesEqualTheScalarPassBitForBit) {
     EXPECT_EQ(differing, 0) << (r.list ? "list " : "elements ") << "[" << r.begin << ", " << r.end << ")";
   }
   if (!tet_element_forces8_available()) std::printf("no AVX-512 here: the eight-lane entry ran the four-lane pass\n");
+}
+
+TEST(TetElasticForce, EdgesKeptByTheVolumePassGiveTheSameForcesBitForBit) {
+  // the volume pass of a gathered range keeps each element's edges (State::tet_edges) and the force
+  // pass reads them instead of the positions: the same subtractions, so the same bits, at both
+  // vector widths, with heads and tails of the range outside whole blocks; a range the volumes
+  // scatter keeps none and says so
+  auto m = test::compile_text(kCylinderYaml);
+  TetElements te = m->tets;
+  const int nt = te.count(), nn = static_cast<int>(te.nodes.size()), n = m->particle_count();
+  ASSERT_GT(nt, 40);
+  te.fast_count = nt / 3 + 1;  // a split like the one multi-rate makes, not on a block boundary
+  pack_tet_blocks(te);
+  State s = make_state(*m);
+  std::vector<double> p;
+  jitter_with_pressure(*m, 23, s, p);
+  const int nf = te.fast_count;
+  for (const auto& [begin, end] : {std::pair{0, nf}, {nf, nt}, {0, nt}, {1, nt}}) {
+    std::fill(s.tet_edges.begin(), s.tet_edges.end(), std::nan(""));
+    std::vector<double> vol(nn, 0.0);
+    const bool kept = add_tet_range_volumes(te, s.x.data(), begin, end, s.tet_quarter.data(), vol.data(), s.tet_edges.data());
+    const bool gathered = !(begin == 1 && end == nt);
+    EXPECT_EQ(kept, gathered) << "elements [" << begin << ", " << end << ")";
+    if (!kept) continue;
+    int wrong_edges = 0;
+    for (int t = begin; t < end; ++t)
+      for (int j = 0; j < 3; ++j)
+        for (int r = 0; r < 3; ++r) {
+          const double e = s.x[te.v[4 * t + j + 1]][r] - s.x[te.v[4 * t]][r];
+          wrong_edges += std::memcmp(&s.tet_edges[(3 * j + r) * nt + t], &e, sizeof(double)) != 0;
+        }
+    EXPECT_EQ(wrong_edges, 0) << "elements [" << begin << ", " << end << ")";
+    std::vector<Vec3> read4(n, Vec3::Zero()), read8(n, Vec3::Zero()), gather(n, Vec3::Zero());
+    tet_element_forces4(te, s.x.data(), p.data(), nullptr, begin, end, 0.5, read4.data(), s.tet_edges.data());
+    tet_element_forces8(te, s.x.data(), p.data(), nullptr, begin, end, 0.5, read8.data(), s.tet_edges.data());
+    tet_element_forces(te, s.x.data(), p.data(), nullptr, begin, end, 0.5, gather.data());
+    int differing = 0;
+    for (int q = 0; q < n; ++q)
+      for (int a = 0; a < 3; ++a)
+        differing += (std::memcmp(&read4[q][a], &gather[q][a], sizeof(double)) != 0) +
+                     (std::memcmp(&read8[q][a], &gather[q][a], sizeof(double)) != 0);
+    EXPECT_EQ(differing, 0) << "elements [" << begin << ", " << end << ")";
+  }
 }
 
 TEST(TetElasticForce, GatheredNodeVolumesEqualTheScatterBitForBit) {
