@@ -420,6 +420,11 @@ inline void element_forces(const TetElements& te, const Vec3* x, const double* p
   tet_element_forces(te, x, p, nullptr, begin, end, scale, f, ed);
 }
 
+// State::tet_edges where the node volumes gather (q given) and the state has it sized (make_state), else null
+inline double* edge_scratch(State& s, const double* q, int nt) {
+  return q && s.tet_edges.size() >= 9 * static_cast<size_t>(nt) ? s.tet_edges.data() : nullptr;
+}
+
 // The slow elements' force at the current positions into s.tet_slow_f, with their volume shares
 // into s.tet_slow_vol (held for the fast elements' node pressures until the next tick's end).
 void slow_force_now(const Model& m, State& s) {
@@ -429,7 +434,7 @@ void slow_force_now(const Model& m, State& s) {
   double* vs = s.tet_slow_vol.data();
   double* p = s.tet_node_vol.data();
   double* q = s.tet_quarter.size() > static_cast<size_t>(nt) ? s.tet_quarter.data() : nullptr;  // with its -0.0 slot
-  double* ed = q ? s.tet_edges.data() : nullptr;
+  double* ed = edge_scratch(s, q, nt);
   for (int a = 0; a < nn; ++a) vs[a] = 0.0;
   const bool measured = add_node_volumes(te, s.x, nf, nt, q, vs, ed);
   for (int a = 0; a < nn; ++a) p[a] = vs[a];
@@ -489,7 +494,7 @@ void add_tet_elastic_forces(const Model& m, State& s, TetPass pass, int substeps
   const bool split = te.multirate() && pass != TetPass::All;
   double* q = s.tet_quarter.size() > static_cast<size_t>(nt) ? s.tet_quarter.data() : nullptr;  // with its -0.0 slot
   // the edges of the elements whose volumes are gathered, for their force pass (tet_edges)
-  double* ed = q && s.tet_edges.size() >= 9 * static_cast<size_t>(nt) ? s.tet_edges.data() : nullptr;
+  double* ed = edge_scratch(s, q, nt);
   bool fast_ed = false, slow_ed = false;  // edges measured at these positions: [0, nf) / [nf, nt) or all
   if (!split) {
     fast_ed = slow_ed = node_volumes(te, s.x, q, p, ed);
