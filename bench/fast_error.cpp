@@ -3,7 +3,8 @@
 // error of a fast configuration (SUBSTEPS per tick, 0 = the file's; solver.mass_scaling 0/1, -1 =
 // the file's; solver.triplets = TRIPLETS, 0 = all)
 // against the converged reference (the paper's scheme, every triplet, REF_SUBSTEPS per tick,
-// default 2x the file's) on the scene's own needle insertion (bench/realtime_scenes.h), over
+// default 2x the file's) on the scene's own needle insertion (bench/realtime_scenes.h), or in a
+// scene without a needle (bladder_filling) on what the file itself does (the filling), over
 // DURATION_S of simulated time. Prints the figures the budget names: needle force RMS
 // error / its peak (<= 10 %), puncture depths (<= 1 mm), prostate and target displacement
 // (<= 0.5 mm), volumes (exact), and whether the budget holds (exit 0) or not (exit 1).

@@ -4,6 +4,7 @@
 //                  the script 0 -> 40 mm in 1 s along the guide: through the rectal wall at
 //                  ~8 mm, into the gland
 //   brachytherapy  config/brachytherapy.yaml as written (its needles advance at 20 mm/s from 0.3 s)
+//   bladder_filling config/bladder_filling.yaml as written (no needle; the bladder fills)
 // `triplets`, `substeps`, `mass_scaling` override solver.triplets (0: all), time.substeps and
 // solver.mass_scaling (0 off, 1 on) and solver.multirate (0 off, 1 on) when >= 0.
 #pragma once
@@ -28,9 +29,11 @@ inline ScenarioSpec realtime_scene(const std::string& name, int triplets = -1, i
 }
 
 // where the error study's target particle is: the lesion centre (biopsy), the first needle's
-// deepest planned point (brachytherapy) [m]
+// deepest planned point (brachytherapy), the prostate's centre, the frame's origin, in a scene
+// without a needle (bladder_filling: the gland pushed by the filling bladder) [m]
 inline Vec3 realtime_target(const std::string& name, const ScenarioSpec& spec) {
   if (name == "biopsy") return Vec3(9e-3, -7e-3, 2e-3);
+  if (spec.needles.needles.empty()) return Vec3::Zero();
   const NeedleSpec& n = spec.needles.needles.at(0);
   double depth = 0.0;
   for (const auto& pt : n.script) depth = std::max(depth, pt.depth);
