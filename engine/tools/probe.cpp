@@ -153,6 +153,7 @@ ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), recta
     if (!in_set[m.component_of[p]] && !bone) continue;
     cand_.push_back(p);
     movable_.push_back(!bone && m.inv_mass[p] > 0.0 && m.locked_axes[p] == 0);
+    cand_constrained_.push_back(on_constrained[p]);
     volume_coupled_ |= on_constrained[p] != 0;
   }
   hit_.assign(cand_.size(), 0);
@@ -373,7 +374,22 @@ void ProbeTool::constraints(const Model& m, State& s, double dt) {
   if (spec_.imposed_mode) imposed_pass(m, s, inv_dt2);
   if (!volume_coupled_) return;
   // the volume projection comes next and may push free vertices of a constrained surface into
-  // the probe: alternate here until the contact corrections are negligible
+  // the probe: alternate here until the contact corrections are negligible. Only vertices near the
+  // probe can be pushed into it; with none of them on a constrained surface this substep, the
+  // engine's volume stage does the projection alone (probe.h, "Penetration").
+  // (Decided by the exact distance, not by membership of near_: both broad phases hold every
+  // candidate within the margin, and only those, not the looser box, must decide, or the two
+  // would alternate on different substeps and stop giving the same bits.)
+  if (!spec_.imposed_mode) {
+    bool near_constrained = false;
+    for (const int i : near_)
+      if (cand_constrained_[i] && capsule_signed_distance(frame_.capsule, s.x[cand_[i]]) < kProbeQueryMargin) {
+        near_constrained = true;
+        break;
+      }
+    if (!near_constrained) return;
+  }
+  ++volume_alternations_;
   for (int it = 0; it < kProbeVolumeIterations; ++it) {
     if (!project_volumes(m, s)) return;  // fault recorded; the step reports it
     const double moved = contact_pass(m, s, inv_dt2);

@@ -28,9 +28,13 @@
 // is inside the probe by more than kProbePenetrationTolerance (0.1 mm); max_penetration() measures
 // it every substep and the tests check it after every tick. The volume projection runs after the
 // tool and may push non-contact vertices of a constrained surface back into the probe; when a
-// contact component shares a vertex with a constrained surface, constraints() alternates
-// project_volumes() and the contact projection (at most kProbeVolumeIterations times) until the
-// corrections are below 1 um, and the engine's own volume stage then only corrects round-off
+// contact component shares a vertex with a constrained surface and such a vertex is within the
+// probe's 1 mm query margin this substep (in imposed mode, on every substep: its coupled targets
+// ride on the probe wherever they are), constraints() alternates project_volumes() and
+// the contact projection (at most kProbeVolumeIterations times) until the corrections are below
+// 1 um, and the engine's own volume stage then only corrects round-off. With no constrained vertex
+// that near, the volume stage cannot push one into the probe (it moves vertices by far less than
+// the margin per substep), so the alternation is skipped and the volume stage does the projection
 // (measured: 1.7e-18 m with an emptying rectum closing on the probe, 1.3e-5 m without the
 // alternation). It is not a proof: if the alternation runs out with larger corrections, the
 // residual shows in max_penetration(). Particles held by the scene (fixed, imposed, rigid / bone)
@@ -140,6 +144,9 @@ class ProbeTool final : public Tool {
   double max_penetration_seen() const { return penetration_seen_; }  // whole run [m]
   int blocked_count() const { return blocked_; }           // held particles inside, last substep
   int64_t blocked_substeps() const { return blocked_substeps_; }
+  // substeps on which constraints() alternated with the volume projection, since construction (a
+  // diagnostic of this object, not part of the saved state)
+  int64_t volume_alternations() const { return volume_alternations_; }
   // Moves lengthened to the speed limits (scripted and live), as records: a live command writes
   // one on the physics thread without allocating (tool_reports.h).
   const ToolReportRing& report_ring() const { return reports_; }
@@ -185,6 +192,7 @@ class ProbeTool final : public Tool {
   std::vector<uint8_t> movable_;   // [cand] 0: held by the scene (fixed, imposed, rigid)
   std::vector<uint8_t> hit_;       // [cand] corrected this substep
   bool volume_coupled_ = false;    // a candidate or target is on a volume-constrained surface
+  std::vector<uint8_t> cand_constrained_;  // [cand] on a volume-constrained surface
   // broad phase
   ProbeBroadPhase broad_ = ProbeBroadPhase::Box;
   std::unique_ptr<FclSurfaceContact> fcl_;  // null when no candidate lies on a surface
@@ -205,6 +213,7 @@ class ProbeTool final : public Tool {
   int substeps_acc_ = 0;
   int contacts_ = 0, imposed_ = 0, blocked_ = 0;
   int64_t blocked_substeps_ = 0;
+  int64_t volume_alternations_ = 0;
   double penetration_ = 0.0, penetration_seen_ = 0.0;
   ToolReportRing reports_;
 };

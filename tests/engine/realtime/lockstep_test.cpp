@@ -84,10 +84,14 @@ TEST(Lockstep, FixedExpectedHashOfAShortScriptedRun) {
   // 0xd38d97e44783e1c6 until the probe's broad phase defaulted to the box over every candidate
   // (ProbeBroadPhase::Box, was FCL): the same particles are projected the same way (the state hash
   // below is unchanged), but the probe's saved list of the substep's candidates differs.
-  constexpr uint64_t kExpectedHash = 0xcdea8ff147e1e5f8ull;
+  // 0xcdea8ff147e1e5f8 (state 0x4d9580391a753066) until the probe stopped alternating its contact
+  // with the volume projection on substeps where no vertex of a volume-constrained surface is
+  // within its 1 mm query margin (engine/tools/probe.h, "Penetration"): the engine's volume stage
+  // then projects once instead of twice, which changes the last bits of the positions.
+  constexpr uint64_t kExpectedHash = 0xcb8cf909fe67fadeull;
   // State alone (positions, velocities, every State field; no tool state): changes only when the
   // physics does, so a commit that changes kExpectedHash but not this one changed tool bookkeeping
-  constexpr uint64_t kExpectedStateHash = 0x4d9580391a753066ull;
+  constexpr uint64_t kExpectedStateHash = 0x09bdb26603003026ull;
   const ScriptRun r = run_script(300);
   EXPECT_EQ(hex16(r.hash), hex16(kExpectedHash)) << "results changed: if intended, update kExpectedHash and say so in the commit";
   EXPECT_EQ(hex16(r.state_hash), hex16(kExpectedStateHash)) << "physics changed: if intended, update kExpectedStateHash and say so in the commit";

@@ -316,6 +316,40 @@ TEST(ProbeContact, EmptyingRectumClosesOnTheProbeWithoutPenetrating) {
   EXPECT_LT(s.probe->max_penetration_seen(), 1e-6);
 }
 
+TEST(ProbeContact, TheVolumeAlternationRunsOnlyWithAConstrainedVertexNearTheProbe) {
+  // The scene's prostate and bladder are volume-constrained and in the probe's contact set, but
+  // at rest no vertex of theirs is within the probe's 1 mm query margin: the engine's volume stage
+  // alone keeps them exact, the probe does not alternate, and nothing sits inside the probe.
+  {
+    Scene s = make_scene();
+    const Model& m = *s.m;
+    const int ps_ = m.components[m.find_component("prostate")].surface;
+    double worst_volume = 0.0;
+    for (int i = 0; i < 40; ++i) {
+      run(s, 1);
+      worst_volume = std::max(worst_volume, std::abs(surface_volume(m.surfaces[ps_], s.sim->state().x) /
+                                                         m.surfaces[ps_].rest_volume - 1.0));
+    }
+    EXPECT_EQ(s.probe->volume_alternations(), 0);
+    EXPECT_LT(worst_volume, 1e-12);
+    EXPECT_LT(s.worst_penetration, kProbePenetrationTolerance);
+  }
+  // An incompressible rectum emptying onto the probe puts constrained vertices on it: the probe
+  // alternates on every substep of the contact, and they stay out of it (well under 1 um).
+  {
+    Scene s = make_scene(
+        [](ScenarioSpec& sp) {
+          for (auto& mat : sp.materials)
+            if (mat.name == "rectal_wall") mat.incompressible = true;
+          sp.filling->schedule = {FillSpec{"rectum", FillSpec::Factor, 0.75, 0.0, 0.03, {}}};
+        },
+        true);
+    run(s, 60);
+    EXPECT_GT(s.probe->volume_alternations(), 60);  // 60 ticks of several substeps, most in contact
+    EXPECT_LT(s.worst_penetration, 1e-6);
+  }
+}
+
 TEST(ProbeContact, ProbeAndBladderFillingTogetherStayStableAndExact) {
   Scene s = make_scene(true);
   const Model& m = *s.m;
