@@ -288,17 +288,23 @@ TEST(ProbeContact, ImposedModeCarriesProstateParticlesWithTheProbe) {
   EXPECT_LT(d.all.max, 0.01);
 }
 
-TEST(ProbeContact, EmptyingRectumClosesOnTheProbeWithoutPenetrating) {
-  // an incompressible rectum emptied to 75% of its volume collapses onto the probe: the volume
-  // projection pulls every free wall particle inward, the contact pushes them back out, and the
-  // tool alternates the two so that both hold at the end of each substep
-  Scene s = make_scene(
+// The rectal wall made incompressible and emptied to 75 % of its volume over 30 ms: it collapses
+// onto the probe, so vertices of a volume-constrained surface sit on it.
+Scene emptying_incompressible_rectum() {
+  return make_scene(
       [](ScenarioSpec& sp) {
         for (auto& mat : sp.materials)
           if (mat.name == "rectal_wall") mat.incompressible = true;
         sp.filling->schedule = {FillSpec{"rectum", FillSpec::Factor, 0.75, 0.0, 0.03, {}}};
       },
       true);
+}
+
+TEST(ProbeContact, EmptyingRectumClosesOnTheProbeWithoutPenetrating) {
+  // an incompressible rectum emptied to 75% of its volume collapses onto the probe: the volume
+  // projection pulls every free wall particle inward, the contact pushes them back out, and the
+  // tool alternates the two so that both hold at the end of each substep
+  Scene s = emptying_incompressible_rectum();
   const Model& m = *s.m;
   const int rs = m.components[m.find_component("rectum")].surface;
   for (int i = 0; i < 60; ++i) {
@@ -337,13 +343,7 @@ TEST(ProbeContact, TheVolumeAlternationRunsOnlyWithAConstrainedVertexNearTheProb
   // An incompressible rectum emptying onto the probe puts constrained vertices on it: the probe
   // alternates on every substep of the contact, and they stay out of it (well under 1 um).
   {
-    Scene s = make_scene(
-        [](ScenarioSpec& sp) {
-          for (auto& mat : sp.materials)
-            if (mat.name == "rectal_wall") mat.incompressible = true;
-          sp.filling->schedule = {FillSpec{"rectum", FillSpec::Factor, 0.75, 0.0, 0.03, {}}};
-        },
-        true);
+    Scene s = emptying_incompressible_rectum();
     run(s, 60);
     EXPECT_GT(s.probe->volume_alternations(), 60);  // 60 ticks of several substeps, most in contact
     EXPECT_LT(s.worst_penetration, 1e-6);
