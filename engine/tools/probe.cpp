@@ -364,6 +364,14 @@ void ProbeTool::imposed_pass(const Model& m, State& s, double inv_dt2) {
   imposed_ = std::max(imposed_, nt);
 }
 
+// By the exact distance, not by membership of near_: both broad phases hold every candidate within
+// the margin, the box more besides, and the two must decide alike to give the same bits.
+bool ProbeTool::constrained_vertex_near(const State& s) const {
+  for (const int i : near_)
+    if (cand_constrained_[i] && capsule_signed_distance(frame_.capsule, s.x[cand_[i]]) < kProbeQueryMargin) return true;
+  return false;
+}
+
 void ProbeTool::constraints(const Model& m, State& s, double dt) {
   const double inv_dt2 = 1.0 / (dt * dt);
   std::fill(hit_.begin(), hit_.end(), 0);
@@ -375,20 +383,9 @@ void ProbeTool::constraints(const Model& m, State& s, double dt) {
   if (!volume_coupled_) return;
   // the volume projection comes next and may push free vertices of a constrained surface into
   // the probe: alternate here until the contact corrections are negligible. Only vertices near the
-  // probe can be pushed into it; with none of them on a constrained surface this substep, the
-  // engine's volume stage does the projection alone (probe.h, "Penetration").
-  // (Decided by the exact distance, not by membership of near_: both broad phases hold every
-  // candidate within the margin, and only those, not the looser box, must decide, or the two
-  // would alternate on different substeps and stop giving the same bits.)
-  if (!spec_.imposed_mode) {
-    bool near_constrained = false;
-    for (const int i : near_)
-      if (cand_constrained_[i] && capsule_signed_distance(frame_.capsule, s.x[cand_[i]]) < kProbeQueryMargin) {
-        near_constrained = true;
-        break;
-      }
-    if (!near_constrained) return;
-  }
+  // probe can be pushed into it; with none this substep, the engine's volume stage projects alone
+  // (probe.h, "Penetration"). Imposed mode alternates always: its targets ride on the probe.
+  if (!spec_.imposed_mode && !constrained_vertex_near(s)) return;
   ++volume_alternations_;
   for (int it = 0; it < kProbeVolumeIterations; ++it) {
     if (!project_volumes(m, s)) return;  // fault recorded; the step reports it

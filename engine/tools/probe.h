@@ -173,6 +173,7 @@ class ProbeTool final : public Tool {
   double min_duration(const ProbePose& a, const ProbePose& b) const;  // speed limits [s]
   void advance_to(double t);
   void find_candidates(const State& s);                               // fills near_
+  bool constrained_vertex_near(const State& s) const;  // a near_ vertex of a constrained surface within the query margin
   double contact_pass(const Model& m, State& s, double inv_dt2);  // returns max correction [m]
   void imposed_pass(const Model& m, State& s, double inv_dt2);
   void add_reaction(const Vec3& x_new, const Vec3& dx, double mass, double inv_dt2);
