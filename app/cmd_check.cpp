@@ -41,7 +41,7 @@ void add_check_command(CLI::App& app, Runner& run) {
       const double bytes = m.particle_count() * (3 * 24.0 + 6 * 8.0) + m.nbr.size() * 12.0 + m.beta.size() * sizeof(BetaTriplet) +
                            m.particle_count() * (5 * 24.0);  // model arrays + state arrays
       std::printf("total particles %d, model+state memory %.2f MiB\n", m.particle_count(), bytes / (1024.0 * 1024.0));
-      std::printf("largest stable substep %.4g s (undamped linearisation); using %d substep(s) of %.4g s per %.4g s tick\n",
+      std::printf("largest stable substep %.4g s (linearisation at rest); using %d substep(s) of %.4g s per %.4g s tick\n",
                   m.stable_dt_estimate, m.substeps, m.dt / m.substeps, m.dt);
       for (const auto& w : rep.warnings) std::printf("warning: %s\n", w.c_str());
       for (const auto& w : rep.notes) std::printf("note: %s\n", w.c_str());

@@ -336,7 +336,14 @@ struct Model {
   // --- end of the shape-memory chunk layout ---
 
   // stability
-  double stable_dt_estimate = 0.0; // largest stable substep, undamped linearisation [s]
+  double stable_dt_estimate = 0.0; // largest stable substep of the linearisation, with the
+                                   // stiffness damping below where it is set [s]
+  // solver.stiffness_damping_s: Rayleigh stiffness-proportional damping beta (C = beta K). The
+  // elastic forces (shape memory, strain, tet, shell) of each substep are evaluated at x + beta v
+  // instead of x, which to first order adds -beta K v (engine/step/simulation.cpp, DampingShift).
+  // It damps a mode of frequency omega at a ratio zeta = beta omega / 2: the wall's fast ringing
+  // strongly, the organ-scale motion not at all. 0: off.
+  double stiffness_damping = 0.0;  // [s]
   // solver.mass_scaling (compile.cpp scale_inertia_to_substep): inertial mass added so that the
   // file's substep is stable instead of raising the substep count; gravity still acts on `mass`
   // and the damping force c m v is kept (damping rate scaled down by the same factor)

@@ -76,6 +76,7 @@ uint64_t model_hash(const Model& m) {
   f.pod(m.tet_pressure.h);
   f.pod(m.tet_pressure.iterations);
   f.pod(m.tets.fast_count);
+  if (m.stiffness_damping > 0.0) f.pod(m.stiffness_damping);  // only then: the undamped scenes keep their hash
   if (m.sleep.enabled()) {  // only then: a scene without sleeping tissue keeps its hash
     f.vec(m.sleep.role);
     f.pod(m.sleep.wake_accel);

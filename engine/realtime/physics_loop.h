@@ -30,7 +30,7 @@
 
 namespace ps {
 
-inline constexpr int kStageCount = 21;  // engine/step/simulation.h Stage values (Sleep is the last)
+inline constexpr int kStageCount = 23;  // engine/step/simulation.h Stage values (DampingUnshift is the last)
 
 struct LoopTiming {
   int64_t ticks = 0;               // ticks completed since start (or reset)

@@ -29,6 +29,7 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   m.gravity = spec.gravity;
   m.redistribution = spec.linear_redistribution ? Redistribution::Linear : Redistribution::Gradient;
   m.max_triplets = spec.max_triplets;
+  m.stiffness_damping = spec.stiffness_damping;
   CompileWork work;
 
   compile_particles(spec, m, work);                      // particles of every component, contiguous per component

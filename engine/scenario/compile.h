@@ -22,9 +22,11 @@ struct CompileReport {
 // names the particle or face).
 std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileReport* report = nullptr);
 
-// Largest stable step of the explicit scheme for the undamped linearisation at rest:
+// Largest stable step of the explicit scheme for the linearisation at rest:
 // dt = 2 / sqrt(lambda_max(M^-1 K)), lambda_max by power iteration on finite differences of the
-// shape-memory force. [s]
+// elastic forces, lowered to (2 / omega)(sqrt(1 + zeta^2) - zeta), zeta = beta omega / 2, where the
+// model has stiffness damping beta (Model::stiffness_damping; the mass-proportional damping is
+// implicit and sets no limit). [s]
 // `pass` selects the tet elements (multi-rate: the fast group with the other force stages, or the
 // slow group alone).
 double estimate_stable_dt(const Model& model, TetPass pass = TetPass::All);

@@ -18,6 +18,15 @@ namespace ps {
 
 std::vector<double> stiffness_proxy(const Model& m, bool fast_only = false);
 
+// The explicit step's limit for a mode of frequency omega [rad/s] with stiffness-proportional
+// damping beta [s] (forces at x + beta v): (2 / omega)(sqrt(1 + zeta^2) - zeta), zeta = beta omega / 2
+// (central differences with Rayleigh damping, Belytschko, Liu & Moran, "Nonlinear finite elements",
+// 6.3). beta = 0 gives 2 / omega.
+double damped_stable_step(double omega, double beta) {
+  const double zeta = 0.5 * beta * omega;
+  return 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+}
+
 double estimate_stable_dt(const Model& m, TetPass pass) {
   const int n = m.particle_count();
   const bool others = pass != TetPass::SlowOnly;  // the other force stages
@@ -58,7 +67,7 @@ double estimate_stable_dt(const Model& m, TetPass pass) {
     if (!(wn > 0.0)) break;
     for (int p = 0; p < n; ++p) v[p] = w[p] / wn;  // renormalise: no overflow
   }
-  return lambda > 0.0 ? 2.0 / std::sqrt(lambda) : std::numeric_limits<double>::infinity();
+  return lambda > 0.0 ? damped_stable_step(std::sqrt(lambda), m.stiffness_damping) : std::numeric_limits<double>::infinity();
 }
 
 // Selective mass scaling (a standard device of explicit dynamics): the particles whose
@@ -88,7 +97,9 @@ void scale_inertia_to_substep(Model& m, double margin) {
       m.inv_mass[p] = inv_mass0[p];
       m.damping[p] = damping0[p];
       if (inv_mass0[p] == 0.0 || d[p] == 0.0) continue;
-      const double need = A * d[p] * want * want / 4.0;  // inertial mass for omega_p want <= 2 [kg]
+      // inertial mass for omega_p want <= 2 [kg] (the estimate then sees the damping, and A grows
+      // until it admits h)
+      const double need = A * d[p] * want * want / 4.0;
       if (need * inv_mass0[p] <= 1.0) continue;
       m.inv_mass[p] = 1.0 / need;
       m.damping[p] = damping0[p] * need * inv_mass0[p] > 0.0 ? damping0[p] / (need * inv_mass0[p]) : 0.0;
@@ -158,7 +169,7 @@ std::string partition_tet_rates(Model& m, double margin) {
   // a particle's own limit 2 / omega_p with omega_p^2 = d_p / m_p (inertial mass); fixed ones never limit
   std::vector<double> limit(n, std::numeric_limits<double>::infinity());
   for (int p = 0; p < n; ++p)
-    if (m.inv_mass[p] > 0.0 && d[p] > 0.0) limit[p] = 2.0 / std::sqrt(d[p] * m.inv_mass[p]);
+    if (m.inv_mass[p] > 0.0 && d[p] > 0.0) limit[p] = damped_stable_step(std::sqrt(d[p] * m.inv_mass[p]), m.stiffness_damping);
   std::vector<uint8_t> slow(n, 0);
   for (int p = 0; p < n; ++p) slow[p] = margin * limit[p] >= m.dt;
   const std::vector<int> v0 = te.v;

@@ -314,12 +314,16 @@ ScenarioSpec parse_scenario_impl(const std::string& text, const std::string& pat
   if (root["solver"]) {
     const YAML::Node t = root["solver"];
     r.only_keys(t, "solver", {"redistribution", "triplets", "mass_scaling", "multirate", "pressure_iterations", "sleep",
-                          "sleep_wake_m_s2"});
+                          "sleep_wake_m_s2", "stiffness_damping_s"});
     if (t["mass_scaling"]) s.mass_scaling = r.boolean(t["mass_scaling"], "solver.mass_scaling");
     if (t["multirate"]) s.multirate = r.boolean(t["multirate"], "solver.multirate");
     if (t["sleep"]) s.sleep = r.boolean(t["sleep"], "solver.sleep");
     if (t["sleep_wake_m_s2"]) s.sleep_wake_accel = r.ranged(t["sleep_wake_m_s2"], "solver.sleep_wake_m_s2", 1e-3, 100.0, "m/s^2");
     if (s.sleep && s.multirate) r.fail(t["sleep"], "solver.sleep", "cannot be combined with solver.multirate (both choose which tet elements run)");
+    // beta above 1 ms would damp the organ-scale motion itself (zeta = beta omega / 2 is 0.02 at
+    // 40 rad/s) and shrink the stable substep below what any scene here could afford
+    if (t["stiffness_damping_s"])
+      s.stiffness_damping = r.ranged(t["stiffness_damping_s"], "solver.stiffness_damping_s", 0.0, 1e-3, "s");
     if (t["pressure_iterations"]) {
       s.pressure_iterations = r.integer(t["pressure_iterations"], "solver.pressure_iterations");
       if (s.pressure_iterations < 1 || s.pressure_iterations > 8)

@@ -203,6 +203,7 @@ struct ScenarioSpec {
                                    // pressure per substep (materials with pressure: implicit)
   bool sleep = false;              // solver.sleep: tet tissue at rest and in balance sleeps (Model::sleep)
   double sleep_wake_accel = 0.1;   // solver.sleep_wake_m_s2: unbalanced force / mass that wakes it [m/s^2]
+  double stiffness_damping = 0.0;  // solver.stiffness_damping_s: Rayleigh beta (Model::stiffness_damping) [s]
   std::vector<MaterialSpec> materials;
   std::vector<ComponentSpec> components;
   std::vector<ConstraintSpec> constraints;

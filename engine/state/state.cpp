@@ -13,6 +13,7 @@ State make_state(const Model& model) {
   s.v.assign(n, Vec3::Zero());
   s.f.assign(n, Vec3::Zero());
   s.x_prev = model.rest_pos;
+  if (model.stiffness_damping > 0.0) s.x_shift = model.rest_pos;
   s.attractor = model.rest_pos;
   s.volume_grad.assign(n, Vec3::Zero());
   s.contact.assign(n, 0);

@@ -38,6 +38,9 @@ struct State {
   std::vector<Vec3> v;             // [n] velocities [m/s]
   std::vector<Vec3> f;             // [n] force accumulator [N]
   std::vector<Vec3> x_prev;        // [n] positions at start of the step (velocity adjust)
+  std::vector<Vec3> x_shift;       // [n] stiffness damping scratch (Model::stiffness_damping > 0): the
+                                   // positions x + beta v the elastic stages see, or the true positions
+                                   // while they run (swapped with x; not saved, not hashed) [m]
   std::vector<Vec3> attractor;     // [n] last attractor P* (shape-memory stage output) [m]
   std::vector<RigidBodyState> bodies;   // [rigid bodies]
   std::vector<double> target_volume;    // [surfaces] current target volume [m^3]

@@ -36,6 +36,8 @@ const char* stage_name(Stage s) {
     case Stage::TetTickEnd: return "tet_tick_end";
     case Stage::TetPressure: return "tet_pressure";
     case Stage::Sleep: return "sleep";
+    case Stage::DampingShift: return "damping_shift";
+    case Stage::DampingUnshift: return "damping_unshift";
   }
   return "?";
 }
@@ -62,10 +64,13 @@ void Simulation::build_pipeline() {
   if (!m.imposed.empty()) pipeline_.push_back(Stage::ImposedDisplacement);
   if (tools) pipeline_.push_back(Stage::ToolBoundary);
   pipeline_.push_back(Stage::ExternalForces);
+  const bool damped = m.stiffness_damping > 0.0;
+  if (damped) pipeline_.push_back(Stage::DampingShift);
   if (m.any_shape_memory) pipeline_.push_back(Stage::ShapeMemory);
   if (m.strain.count() > 0) pipeline_.push_back(Stage::StrainMemory);
   if (m.tets.count() > 0) pipeline_.push_back(Stage::TetElastic);
   if (m.shells.triangle_count() > 0) pipeline_.push_back(Stage::ShellElastic);
+  if (damped) pipeline_.push_back(Stage::DampingUnshift);
   if (!m.fibre_pairs.empty()) pipeline_.push_back(Stage::ActiveFibres);
   if (tools) pipeline_.push_back(Stage::ToolForces);
   if (rigid) pipeline_.push_back(Stage::RigidForces);
@@ -122,8 +127,15 @@ bool Simulation::step(double dt, StageProbe* probe) {
       case Stage::AdjustVelocity: adjust_velocities(s, dt); break;
       case Stage::Sleep: update_tet_sleep(m, s, ctx_->last_substep); break;
       case Stage::TetTickEnd:
-        if (ctx_->last_substep) end_tet_tick(m, s, dt * ctx_->substeps);
+        if (ctx_->last_substep) {
+          // the slow group's force at the tick's end is elastic too: damped like the others
+          if (m.stiffness_damping > 0.0) shift_for_damping(m, s);
+          end_tet_tick(m, s, dt * ctx_->substeps);
+          if (m.stiffness_damping > 0.0) unshift_for_damping(s);
+        }
         break;
+      case Stage::DampingShift: shift_for_damping(m, s); break;
+      case Stage::DampingUnshift: unshift_for_damping(s); break;
       case Stage::Check:
         s.time = t_end;
         ++s.step;

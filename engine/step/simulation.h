@@ -89,7 +89,8 @@ class Tool {
 enum class Stage : uint8_t {
   ImposedDisplacement, ExternalForces, ShapeMemory, StrainMemory, TetElastic, ActiveFibres, ToolBoundary, ToolForces,
   RigidForces, Integrate, RigidIntegrate, LocalConstraints, ToolConstraints, Volume,
-  AdjustVelocity, Check, ToolAfter, ShellElastic, TetTickEnd, TetPressure, Sleep
+  AdjustVelocity, Check, ToolAfter, ShellElastic, TetTickEnd, TetPressure, Sleep,
+  DampingShift, DampingUnshift  // Model::stiffness_damping: the elastic stages between them see x + beta v
 };
 const char* stage_name(Stage s);
 

@@ -90,6 +90,11 @@ void tet_element_forces4(const TetElements& te, const Vec3* x, const double* p, 
 void tet_element_forces8(const TetElements& te, const Vec3* x, const double* p, const int* list, int begin, int end, double scale,
                          Vec3* f, const double* ed = nullptr);
 bool tet_element_forces8_available();
+// stiffness_damping.cpp: Rayleigh stiffness damping (Model::stiffness_damping = beta): State::x
+// becomes x + beta v for the elastic stages that follow (the true positions wait in State::x_shift)
+// until unshift_for_damping swaps them back
+void shift_for_damping(const Model& m, State& s);
+void unshift_for_damping(State& s);
 // integrate.cpp: symplectic Euler with implicit velocity damping v /= (1 + c dt)
 void integrate(const Model& m, State& s, double dt);
 // tet_pressure.cpp: the implicit nodal pressure of `pressure: implicit` tet nodes (Model::tet_pressure)
