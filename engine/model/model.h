@@ -340,7 +340,7 @@ struct Model {
                                    // stiffness damping below where it is set [s]
   // solver.stiffness_damping_s: Rayleigh stiffness-proportional damping beta (C = beta K). The
   // elastic forces (shape memory, strain, tet, shell) of each substep are evaluated at x + beta v
-  // instead of x, which to first order adds -beta K v (engine/step/simulation.cpp, DampingShift).
+  // instead of x, which to first order adds -beta K v (engine/step/stiffness_damping.cpp).
   // It damps a mode of frequency omega at a ratio zeta = beta omega / 2: the wall's fast ringing
   // strongly, the organ-scale motion not at all. 0: off.
   double stiffness_damping = 0.0;  // [s]

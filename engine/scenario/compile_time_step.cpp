@@ -22,10 +22,12 @@ std::vector<double> stiffness_proxy(const Model& m, bool fast_only = false);
 // damping beta [s] (forces at x + beta v): (2 / omega)(sqrt(1 + zeta^2) - zeta), zeta = beta omega / 2
 // (central differences with Rayleigh damping, Belytschko, Liu & Moran, "Nonlinear finite elements",
 // 6.3). beta = 0 gives 2 / omega.
+namespace {
 double damped_stable_step(double omega, double beta) {
   const double zeta = 0.5 * beta * omega;
   return 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
 }
+}  // namespace
 
 double estimate_stable_dt(const Model& m, TetPass pass) {
   const int n = m.particle_count();

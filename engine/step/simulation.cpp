@@ -129,9 +129,10 @@ bool Simulation::step(double dt, StageProbe* probe) {
       case Stage::TetTickEnd:
         if (ctx_->last_substep) {
           // the slow group's force at the tick's end is elastic too: damped like the others
-          if (m.stiffness_damping > 0.0) shift_for_damping(m, s);
+          const bool damped = m.stiffness_damping > 0.0;
+          if (damped) shift_for_damping(m, s);
           end_tet_tick(m, s, dt * ctx_->substeps);
-          if (m.stiffness_damping > 0.0) unshift_for_damping(s);
+          if (damped) unshift_for_damping(s);
         }
         break;
       case Stage::DampingShift: shift_for_damping(m, s); break;
