@@ -3,6 +3,7 @@
 // A build without the window libraries (-DPROSTATESIM_GUI=OFF) says so and exits 2.
 #include <spdlog/spdlog.h>
 
+#include "app/cli_ranges.h"
 #include "app/commands.h"
 #if PROSTATESIM_HAVE_EDITOR
 #include "app/editor/editor_window.h"
@@ -24,10 +25,10 @@ void add_edit_command(CLI::App& app, Runner& run) {
   sub->add_option("--set", a->sets, "KEY=VALUE edit applied at start (key path, YAML value in file units), repeatable");
   sub->add_flag("--save", a->save, "save the file after the --set edits (atomically)");
   sub->add_option("--save-as", a->save_as, "save to this file instead");
-  sub->add_option("--frames", a->frames, "close the window after N frames (scripted use, tests)")->check(CLI::PositiveNumber);
+  sub->add_option("--frames", a->frames, "close the window after N frames (scripted use, tests)")->check(in_range(1, 1e9, "frames"));
   sub->add_option("--screenshot", a->screenshot, "PNG of the window's last frame");
   sub->add_option("--preview", a->preview, "run the in-place preview this long [s] at the first frame and print its state hash")
-      ->check(CLI::PositiveNumber);
+      ->check(simulated_seconds());
   sub->callback([a, &run] {
     run = [a]() -> int {
 #if PROSTATESIM_HAVE_EDITOR

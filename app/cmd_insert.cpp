@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "app/cli_ranges.h"
 #include "app/commands.h"
 #include "app/session_capture.h"
 #include "engine/metrics/metrics_json.h"
@@ -37,7 +38,7 @@ void add_insert_command(CLI::App& app, Runner& run) {
   auto args = std::make_shared<InsertArgs>();
   CLI::App* sub = app.add_subcommand("insert", "run a scenario's needles headless; write force-vs-depth, events, seeds, cores CSV");
   sub->add_option("scenario", args->scenario, "scenario YAML file with a needles: section")->required();
-  sub->add_option("--duration", args->duration, "simulated time [s] (default: the scenario's)")->check(CLI::PositiveNumber);
+  sub->add_option("--duration", args->duration, "simulated time [s] (default: the scenario's)")->check(simulated_seconds());
   sub->add_option("--out", args->out, "output folder (created)")->capture_default_str();
   sub->add_option("--trainee", args->trainee, "trainee name recorded in metrics.json");
   sub->add_option("--session", args->session, "session name recorded in metrics.json (default: the output folder's name)");

@@ -21,6 +21,7 @@
 
 #include "engine/sim/watchdog.h"
 
+#include "app/cli_ranges.h"
 #include "app/commands.h"
 #include "app/run_session.h"
 #include "app/session_capture.h"
@@ -151,7 +152,7 @@ void add_replay_command(CLI::App& app, Runner& run) {
   r->excludes(s);
   sub->add_flag("--hash", a->hash_only, "print only the final state hash (16 hex digits)");
   sub->add_option("--duration", a->duration, "stop after this simulated time [s] (default: where the recording ends)")
-      ->check(CLI::PositiveNumber);
+      ->check(simulated_seconds());
   sub->add_option("--save-on-fault", a->save_on_fault, "when the physics faults, write the last good state to FILE (atomically)");
   sub->add_flag("--no-watchdog", a->no_watchdog, "do not check energy growth, volume drift and particles leaving the scene each tick");
   sub->add_option("--state", a->state, "start from a saved state (--save-on-fault, the window's Save state) of this scenario")

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 
+#include "app/cli_ranges.h"
 #include "app/commands.h"
 #include "engine/io/output.h"
 #include "engine/scenario/compile.h"
@@ -37,7 +38,7 @@ void add_simulate_command(CLI::App& app, Runner& run) {
   sub->add_flag("--until-rest", args->until_rest,
                 "stop when kinetic energy stays below the scenario's rest.kinetic_energy_j (default 1e-7 J) for rest.hold_s (default 0.05 s)");
   sub->add_option("--out", args->out, "output folder (created)")->capture_default_str();
-  dur->check(CLI::PositiveNumber);
+  dur->check(simulated_seconds());
   sub->callback([args, &run] {
     run = [args]() -> int {
       const ScenarioSpec spec = parse_scenario_file(args->scenario);

@@ -74,7 +74,7 @@ void add_ultrasound_command(CLI::App& app, Runner& run) {
         }
         if (!want[0] && !want[1]) throw InputError("", 0, "--views", "no view named");
       }
-      if (!std::isfinite(a->time) || a->time < 0) throw InputError("", 0, "--time", "must be a finite time >= 0 s");
+      if (!(a->time >= 0.0 && a->time <= 1e6)) throw InputError("", 0, "--time", "must be in [0, 1e+06] s");
       const ScenarioSpec spec = parse_scenario_file(a->scenario);
       if (!spec.probe) throw InputError(spec.file, 0, "probe", "the scenario has no probe: section to image from");
       us::UltrasoundSettings set = us::settings_for_probe(*spec.probe);

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "app/cli_ranges.h"
 #include "app/commands.h"
 #include "app/progress.h"
 #include "app/validate_indentation.h"
@@ -54,7 +55,7 @@ void add_validate_command(CLI::App& app, Runner& run) {
   sub->add_option("--model", args->model, "punch_halfspace, sphere_indentation: run this tissue model (paper, strain, tet) instead of the scenario's")
       ->check(CLI::IsMember({"paper", "strain", "tet"}));
   sub->add_option("--spacings-mm", args->spacings, "punch_halfspace, sphere_indentation: particle spacings to run, multiples of 5 (default 10 5)")
-      ->check(CLI::PositiveNumber);
+      ->check(in_range(0.0, 1000.0, "mm", true));
   sub->callback([args, &run] {
     run = [args]() -> int {
       const std::string root = find_root(args->root);

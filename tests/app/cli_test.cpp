@@ -66,6 +66,35 @@ TEST(Cli, MissingFileAndBadOptionExit2) {
   EXPECT_EQ(run("no-such-command").code, 2);
 }
 
+// Numbers on the command line get the scenario's own bounds. `--duration 1e300` used to overflow
+// the tick count and "succeed" with 0 steps, exit 0; `--factor 1e-300` ran forever; the old
+// message printed the upper bound as 309 digits of DBL_MAX.
+TEST(Cli, OutOfRangeNumbersExit2NamingTheOptionAndItsBounds) {
+  const fs::path out = temp_dir("range");
+  const std::string scen = kSource + "/config/demo_cube.yaml";
+  struct Case {
+    std::string args, expect;
+  };
+  const Case cases[] = {
+      {"simulate " + scen + " --out " + out.string() + " --duration 1e300", "--duration: must be in (0, 1e+06] s, got 1e300"},
+      {"simulate " + scen + " --out " + out.string() + " --duration nan", "--duration: must be in (0, 1e+06] s, got nan"},
+      {"simulate " + scen + " --out " + out.string() + " --duration 0", "--duration: must be in (0, 1e+06] s, got 0"},
+      {"simulate " + scen + " --out " + out.string() + " --duration abc", "--duration: expected a number, got 'abc'"},
+      {"insert " + scen + " --out " + out.string() + " --duration inf", "--duration: must be in (0, 1e+06] s, got inf"},
+      {"run " + scen + " --headless --factor 1e-300", "--factor: must be in [0.001, 100], got 1e-300"},
+      {"run " + scen + " --headless --duration 2e6", "--duration: must be in (0, 1e+06] s, got 2e6"},
+      {"replay " + scen + " --script " + kSource + "/config/scripts/biopsy.yaml --duration -1", "--duration: must be in (0, 1e+06] s, got -1"},
+  };
+  for (const Case& c : cases) {
+    const Result r = run(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_LT(r.out.size(), 400u) << c.args << "\n" << r.out;  // one short message
+  }
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+  EXPECT_FALSE(fs::exists(out / "particles.csv"));
+}
+
 TEST(Cli, BlowUpExits3NamingParticleAndTime) {
   const fs::path dir = temp_dir("blow");
   const fs::path scen = dir / "blow.yaml";
