@@ -1,8 +1,8 @@
 // Range checks for numeric command-line options, with a message a user can act on.
 // CLI11's PositiveNumber had no upper bound and printed it as the full decimal expansion of
 // DBL_MAX; without a bound, `--duration 1e300` overflowed the tick count and a run "succeeded"
-// with 0 steps, and `--factor 1e-300` ran forever. The simulated-time bounds are the scenario's
-// own (`time.duration_s`, engine/scenario/parse_yaml.cpp), so a command line cannot ask for
+// with 0 steps, and `--factor 1e-300` ran forever. The simulated-time bound is the scenario's
+// own (ScenarioSpec::kMaxDuration, also `time.duration_s`'s), so a command line cannot ask for
 // more than a scenario file may.
 #pragma once
 #include <CLI/CLI.hpp>
@@ -10,6 +10,8 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+
+#include "engine/spec/scenario_spec.h"
 
 namespace ps::app {
 
@@ -31,6 +33,6 @@ inline CLI::Validator in_range(double lo, double hi, const std::string& unit, bo
 }
 
 // Simulated time of a run [s]: the range of a scenario's time.duration_s.
-inline CLI::Validator simulated_seconds() { return in_range(0.0, 1e6, "s", true); }
+inline CLI::Validator simulated_seconds() { return in_range(0.0, ScenarioSpec::kMaxDuration, "s", true); }
 
 }  // namespace ps::app

@@ -20,7 +20,6 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
-#include <memory>
 #include <sstream>
 
 #include "app/commands.h"
@@ -28,14 +27,9 @@
 #include "app/progress.h"
 #include "app/validation.h"
 #include "engine/io/png_write.h"
-#include "engine/realtime/lockstep.h"
-#include "engine/realtime/script.h"
+#include "engine/realtime/scripted_run.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
-#include "engine/sim/scene.h"
-#include "engine/tools/filling.h"
-#include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
 #include "engine/util/atomic_file.h"
 #include "engine/util/error.h"
 
@@ -68,7 +62,6 @@ struct Realtime {
   double factor = 0, p99_us = 0, median_us = 0, sim_s = 0;
   double factor_cpu = 0;  // simulated s per CPU s of this process: steadier on a shared machine
   int particles = 0, substeps = 0;
-  bool scripted = false;  // driven by config/scripts/<scene>.yaml
   std::vector<std::string> pipeline;
   bool faulted = false;
 };
@@ -76,35 +69,27 @@ struct Realtime {
 // The scene driven by its trainee script (config/scripts/<scene>.yaml: the probe pushed onto the
 // gland, the needle advanced and fired or inserted) in lock-step, as fast as it goes, for the
 // script's whole length or `seconds` when shorter: the tick time of each tick, wall clock around
-// the tick (commands applied, physics, nothing else). Without a script, the scene's own needles.
+// the tick (commands applied, physics, nothing else).
 Realtime realtime_of(const std::string& file, const std::string& script_file, double seconds) {
-  const ScenarioSpec spec = parse_scenario_file(file);
-  const bool scripted = std::filesystem::exists(script_file);
-  const Script script = scripted ? parse_script_file(script_file) : Script{};
-  Scene sc = build_scene(spec);
-  std::unique_ptr<CommandPlayer> player;
-  if (scripted) player = std::make_unique<CommandPlayer>(script_commands(script, sc));
-  LockstepRunner run(*sc.sim);
-  if (player) run.add_source(player.get());
+  ScriptedRun sr(parse_scenario_file(file), script_file);
+  const Model& m = *sr.sc.model;
   Realtime r;
-  r.particles = sc.model->particle_count();
-  r.substeps = sc.model->substeps;
-  r.scripted = scripted;
-  for (Stage s : sc.sim->pipeline()) r.pipeline.push_back(stage_name(s));
-  const double length = scripted && script.duration > 0 ? std::min(seconds, script.duration) : seconds;
-  const int ticks = std::max(1, static_cast<int>(std::lround(length / sc.model->dt)));
+  r.particles = m.particle_count();
+  r.substeps = m.substeps;
+  for (Stage s : sr.sc.sim->pipeline()) r.pipeline.push_back(stage_name(s));
+  const int64_t ticks = std::max<int64_t>(1, std::min<int64_t>(sr.ticks(), std::llround(seconds / m.dt)));
   std::vector<double> us;
   us.reserve(ticks);
   const auto t0 = Clock::now();
   const std::clock_t c0 = std::clock();
-  for (int k = 0; k < ticks; ++k) {
+  for (int64_t k = 0; k < ticks; ++k) {
     const auto a = Clock::now();
-    if (!run.step()) { r.faulted = true; break; }
+    if (!sr.run.step()) { r.faulted = true; break; }
     us.push_back(since(a) * 1e6);
   }
   const double wall = since(t0);
   const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
-  r.sim_s = sc.sim->state().time;
+  r.sim_s = sr.sc.sim->state().time;
   r.factor = r.sim_s / wall;
   r.factor_cpu = cpu > 0 ? r.sim_s / cpu : 0.0;
   if (!us.empty()) {
@@ -323,7 +308,6 @@ void add_bench_command(CLI::App& app, Runner& run) {
         j[std::string("substeps_") + scene] = r.substeps;
         j[std::string("pipeline_") + scene] = r.pipeline;
         j[std::string("simulated_s_") + scene] = r.sim_s;
-        j[std::string("scripted_") + scene] = r.scripted;
         if (r.faulted) j[std::string("faulted_") + scene] = true;
       }
       progress.update(done++, "cube 1331 substep");

@@ -241,7 +241,7 @@ void add_run_command(CLI::App& app, Runner& run) {
   sub->add_option("--duration", a->duration, "simulated time [s] (headless default: the script's, else the scenario's)")
       ->check(simulated_seconds());
   sub->add_option("--factor", a->factor, "slow motion: simulated seconds per wall second (default 1 = real time)")
-      ->check(in_range(1e-3, 100.0, "", false));
+      ->check(in_range(1e-3, 100.0, ""));
   sub->add_flag("--unpaced", a->unpaced, "do not keep real time: tick as fast as possible");
   sub->add_flag("--hash", a->hash_only, "print only the final state hash (16 hex digits)");
   sub->add_option("--probe-device", a->probe_device, "what moves the probe live: none, spacemouse (six axes), mouse (keyboard bindings)")

@@ -9,9 +9,9 @@
 #include <cstdio>
 
 #include "bench/bench_modes.h"
-#include "bench/scripted_run.h"
 #include "engine/realtime/lockstep.h"
 #include "engine/realtime/script.h"
+#include "engine/realtime/scripted_run.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/scene.h"
 #include "engine/tools/needle.h"

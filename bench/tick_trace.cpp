@@ -11,10 +11,10 @@
 #include <vector>
 
 #include "bench/bench_modes.h"
-#include "bench/scripted_run.h"
 #include "engine/realtime/lockstep.h"
 #include "engine/realtime/physics_loop.h"
 #include "engine/realtime/script.h"
+#include "engine/realtime/scripted_run.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/scene.h"
 

@@ -309,7 +309,7 @@ ScenarioSpec parse_scenario_impl(const std::string& text, const std::string& pat
       s.substeps = r.integer(t["substeps"], "time.substeps");
       if (s.substeps < 1 || s.substeps > 100000) r.fail(t["substeps"], "time.substeps", "must be in 1..100000");
     }
-    if (t["duration_s"]) s.duration = r.ranged(t["duration_s"], "time.duration_s", 1e-6, 1e6, "s");
+    if (t["duration_s"]) s.duration = r.ranged(t["duration_s"], "time.duration_s", 1e-6, ScenarioSpec::kMaxDuration, "s");
   }
   if (root["solver"]) {
     const YAML::Node t = root["solver"];

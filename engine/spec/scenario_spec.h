@@ -193,6 +193,8 @@ struct ScenarioSpec {
   int substeps = 1;
   double duration = 1.0;           // [s]
   Vec3 gravity = Vec3(0, 0, -9.81);  // [m/s^2]
+  // the longest run a scenario (time.duration_s) or a command line (--duration) may ask for [s]
+  static constexpr double kMaxDuration = 1e6;
   double rest_kinetic_energy = 1e-7; // --until-rest threshold on kinetic energy [J]
   double rest_hold = 0.05;         // ... held for this long [s]
   bool linear_redistribution = false;  // solver.redistribution: linear (paper literal) | gradient

@@ -1,6 +1,7 @@
-// A scene with its script, run in lockstep (no thread, no clock), for the bench modes that trace a
-// scripted run tick by tick (speed_trace.cpp, tick_trace.cpp). The script is parsed first, so a
-// bad script is reported before the scene is compiled.
+// A scene with its script, run in lockstep (no thread, no clock): `prostatesim bench`'s real-time
+// figures (app/cmd_bench.cpp) and the bench modes that trace a scripted run tick by tick
+// (bench/speed_trace.cpp, bench/tick_trace.cpp). The script is parsed first, so a bad script is
+// reported before the scene is compiled.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -11,7 +12,7 @@
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/scene.h"
 
-namespace ps::bench {
+namespace ps {
 
 struct ScriptedRun {
   ScriptedRun(const ScenarioSpec& spec, const std::string& script_file)
@@ -26,4 +27,4 @@ struct ScriptedRun {
   LockstepRunner run;
 };
 
-}  // namespace ps::bench
+}  // namespace ps
