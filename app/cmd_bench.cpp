@@ -60,6 +60,7 @@ std::string find_root(const std::string& given) {
 // --- 1. real time --------------------------------------------------------------------------------
 struct Realtime {
   double factor = 0, p99_us = 0, median_us = 0, sim_s = 0;
+  double period_us = 0;   // the scene's tick, the p99's bound [us]
   double factor_cpu = 0;  // simulated s per CPU s of this process: steadier on a shared machine
   int particles = 0, substeps = 0;
   std::vector<std::string> pipeline;
@@ -76,6 +77,7 @@ Realtime realtime_of(const std::string& file, const std::string& script_file, do
   Realtime r;
   r.particles = m.particle_count();
   r.substeps = m.substeps;
+  r.period_us = m.dt * 1e6;
   for (Stage s : sr.sc.sim->pipeline()) r.pipeline.push_back(stage_name(s));
   const int64_t ticks = std::max<int64_t>(1, std::min<int64_t>(sr.ticks(), std::llround(seconds / m.dt)));
   std::vector<double> us;
@@ -303,6 +305,7 @@ void add_bench_command(CLI::App& app, Runner& run) {
         j[std::string("realtime_factor_") + scene] = r.factor;
         j[std::string("realtime_factor_cpu_") + scene] = r.factor_cpu;
         j[std::string("tick_p99_us_") + scene] = r.p99_us;
+        j[std::string("tick_period_us_") + scene] = r.period_us;
         j[std::string("tick_median_us_") + scene] = r.median_us;
         j[std::string("particles_") + scene] = r.particles;
         j[std::string("substeps_") + scene] = r.substeps;
@@ -394,10 +397,11 @@ void add_bench_command(CLI::App& app, Runner& run) {
                                 {"wall_s_per_sim_s", c.wall_per_sim}, {"err_rms_rel", std::isfinite(c.err_rms) ? nlohmann::json(c.err_rms) : nlohmann::json()},
                                 {"pareto", c.pareto}, {"shipped", c.shipped}});
       if (!a->json.empty()) write_file_atomic(a->json, j.dump(2) + "\n");
-      std::printf("realtime_factor_biopsy %.3g  realtime_factor_brachytherapy %.3g  tick_p99_us_biopsy %.0f  step_us_1300 %.1f  "
-                  "particles_biopsy %d\n",
+      std::printf("realtime_factor_biopsy %.3g  realtime_factor_brachytherapy %.3g  tick_p99_us_biopsy %.0f (period %.0f)  "
+                  "step_us_1300 %.1f  particles_biopsy %d\n",
                   j["realtime_factor_biopsy"].get<double>(), j["realtime_factor_brachytherapy"].get<double>(),
-                  j["tick_p99_us_biopsy"].get<double>(), j["step_us_1300"].get<double>(), j["particles_biopsy"].get<int>());
+                  j["tick_p99_us_biopsy"].get<double>(), j["tick_period_us_biopsy"].get<double>(), j["step_us_1300"].get<double>(),
+                  j["particles_biopsy"].get<int>());
       std::printf("%-8s %8s %9s %14s %10s %s\n", "model", "h_mm", "substeps", "wall_s/sim_s", "err_rms_%", "");
       for (const auto& c : cs)
         std::printf("%-8s %8.3g %9d %14.4g %10.3g %s%s\n", c.model.c_str(), c.spacing_mm, c.substeps, c.wall_per_sim, 100 * c.err_rms,

@@ -34,6 +34,12 @@ double estimate_stable_dt(const Model& model, TetPass pass = TetPass::All);
 // element is slow when its four particles' own stable steps admit the whole tick dt / margin and
 // the slow group's estimate (power iteration) confirms it. Returns a line for the compile report.
 std::string partition_tet_rates(Model& model, double margin);
+// solver.multirate_inertia: the same partition at a tick the soft bulk's own step falls short of,
+// with up to max_factor times a particle's inertial mass where that lets its elements join the
+// slow group (never on shell vertices or implicit-pressure nodes; taken back where the particle
+// ends in no slow element). Appends its lines to notes; false, and the model unchanged, when no
+// amplification admits the tick (compile_time_step.cpp).
+bool partition_tet_rates_with_inertia(Model& model, double margin, double max_factor, std::vector<std::string>& notes);
 // solver.mass_scaling: inertial mass on the particles that set the stable substep, until the
 // model's substep dt/substeps is at most `margin` of the estimate (compile_time_step.cpp); updates
 // inv_mass, damping, stable_dt_estimate, added_inertia, largest_inertia_factor.

@@ -163,6 +163,45 @@ std::vector<double> stiffness_proxy(const Model& m, bool fast_only) {
   return d;
 }
 
+namespace {
+
+// The tet elements reordered fast first (an element is slow when its four particles are), each
+// group in its original order (deterministic), from the arrays as they were before any partition
+// (orig); sets TetElements::fast_count.
+struct TetOrder {
+  std::vector<int> v;
+  std::vector<double> g, vol0, mu;
+};
+
+void order_tet_rates(TetElements& te, const TetOrder& orig, const std::vector<uint8_t>& slow) {
+  const int nt = te.count();
+  auto is_slow = [&](int t) {
+    const int* v = &orig.v[4 * t];
+    return slow[v[0]] && slow[v[1]] && slow[v[2]] && slow[v[3]];
+  };
+  int k = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1) te.fast_count = k;
+    for (int t = 0; t < nt; ++t) {
+      if (is_slow(t) != (pass == 1)) continue;
+      for (int i = 0; i < 4; ++i) te.v[4 * k + i] = orig.v[4 * t + i];
+      for (int i = 0; i < 9; ++i) te.g[9 * k + i] = orig.g[9 * t + i];
+      te.vol0[k] = orig.vol0[t];
+      te.mu[k] = orig.mu[t];
+      ++k;
+    }
+  }
+}
+
+std::string slow_group_line(const TetElements& te, double slow_limit) {
+  char b[200];
+  std::snprintf(b, sizeof b, "multirate: %d of %d tet elements once per tick (slow group's stable step %.3g ms)",
+                te.count() - te.fast_count, te.count(), slow_limit * 1e3);
+  return b;
+}
+
+}  // namespace
+
 std::string partition_tet_rates(Model& m, double margin) {
   TetElements& te = m.tets;
   const int n = m.particle_count(), nt = te.count();
@@ -174,39 +213,12 @@ std::string partition_tet_rates(Model& m, double margin) {
     if (m.inv_mass[p] > 0.0 && d[p] > 0.0) limit[p] = damped_stable_step(std::sqrt(d[p] * m.inv_mass[p]), m.stiffness_damping);
   std::vector<uint8_t> slow(n, 0);
   for (int p = 0; p < n; ++p) slow[p] = margin * limit[p] >= m.dt;
-  const std::vector<int> v0 = te.v;
-  const std::vector<double> g0 = te.g, vol00 = te.vol0, mu0 = te.mu;
-  std::string line;
+  const TetOrder orig{te.v, te.g, te.vol0, te.mu};
   for (int round = 0; round < 12; ++round) {
-    // order: fast elements (any vertex fast) first, each group in its original order (deterministic)
-    std::vector<int> order;
-    for (int pass = 0; pass < 2; ++pass)
-      for (int t = 0; t < nt; ++t) {
-        const int* v = &v0[4 * t];
-        const bool is_slow = slow[v[0]] && slow[v[1]] && slow[v[2]] && slow[v[3]];
-        if (is_slow == (pass == 1)) order.push_back(t);
-      }
-    int nf = 0;
-    for (int t = 0; t < nt; ++t) {
-      const int* v = &v0[4 * t];
-      nf += !(slow[v[0]] && slow[v[1]] && slow[v[2]] && slow[v[3]]);
-    }
-    for (int k = 0; k < nt; ++k) {
-      const int t = order[k];
-      for (int i = 0; i < 4; ++i) te.v[4 * k + i] = v0[4 * t + i];
-      for (int i = 0; i < 9; ++i) te.g[9 * k + i] = g0[9 * t + i];
-      te.vol0[k] = vol00[t];
-      te.mu[k] = mu0[t];
-    }
-    te.fast_count = nf;
-    if (nf == nt) return "multirate: no tet element admits the whole tick; every element runs every substep";
+    order_tet_rates(te, orig, slow);
+    if (te.fast_count == nt) return "multirate: no tet element admits the whole tick; every element runs every substep";
     const double slow_limit = estimate_stable_dt(m, TetPass::SlowOnly);
-    if (margin * slow_limit >= m.dt) {
-      char b[200];
-      std::snprintf(b, sizeof b, "multirate: %d of %d tet elements once per tick (slow group's stable step %.3g ms)",
-                    nt - nf, nt, slow_limit * 1e3);
-      return b;
-    }
+    if (margin * slow_limit >= m.dt) return slow_group_line(te, slow_limit);
     // the estimate does not confirm it: the stiffest tenth of the slow particles become fast
     std::vector<std::pair<double, int>> by_limit;
     for (int p = 0; p < n; ++p)
@@ -216,20 +228,122 @@ std::string partition_tet_rates(Model& m, double margin) {
     for (size_t i = 0; i < drop && i < by_limit.size(); ++i) slow[by_limit[i].second] = 0;
   }
   // give up: every element every substep
-  te.v = v0; te.g = g0; te.vol0 = vol00; te.mu = mu0;
+  te.v = orig.v; te.g = orig.g; te.vol0 = orig.vol0; te.mu = orig.mu;
   te.fast_count = nt;
   return "multirate: the slow group's estimate never admitted the tick; every element runs every substep";
 }
+
+// Multi-rate inertia (solver.multirate_inertia F > 1). A particle whose own stable step (the
+// stiffness proxy's 2 / omega_p) falls a little short of the whole tick gets inertial mass, at
+// most F times its own, so that its elements can join the slow group (once per tick) instead of
+// running every substep. It picks the soft bulk (the fat at a 2 ms tick) and leaves alone what
+// would need far more (the prostate's shear, the walls' bending), which stays in the fast group
+// at the substep. Never the walls' vertices nor the implicit pressure's nodes: their motion is
+// what the trainee sees and feels (the needle's tenting and puncture, the gland), and their
+// inertia would act on every substep. Gravity keeps the physical mass and the damping force
+// c m v is kept, as in scale_inertia_to_substep.
+// How much: the inertia for which the proxy admits the tick times an amplification a (the
+// partition's own test on the proxy is >=, a = 1.1 keeps it clear of rounding), raised along a
+// ladder until the power-iteration estimate of the slow group admits the tick. A particle counts
+// as slow only where its proxy does: counting more (the proxy's need relaxed, relying on the
+// estimate alone) blew up the default scenes within 0.3 s at a 2 ms tick, at a wall's vertex and
+// in the fat (docs/performance.md, round 23). A particle that ends in no slow element keeps its
+// own mass. Returns false (the model as it came in) when no rung admits the tick.
+bool partition_tet_rates_with_inertia(Model& m, double margin, double max_factor, std::vector<std::string>& notes) {
+  TetElements& te = m.tets;
+  const int n = m.particle_count(), nt = te.count();
+  if (nt == 0) return false;
+  const std::vector<double> d = stiffness_proxy(m);
+  const double want = m.dt / margin;  // the per-particle limit the partition asks for [s]
+  std::vector<uint8_t> excluded(n, 0);
+  for (int v : m.shells.tri) excluded[v] = 1;
+  for (size_t a = 0; a < te.nodes.size(); ++a)
+    if (te.node_kappa[a] > 0.0 && te.node_kappa_explicit[a] == 0.0) excluded[te.nodes[a]] = 1;
+  const std::vector<double> inv_mass0 = m.inv_mass, damping0 = m.damping;
+  const TetOrder orig{te.v, te.g, te.vol0, te.mu};
+  std::vector<uint8_t> slow(n, 0);
+  static constexpr double kLadder[] = {1.1, 1.25, 1.4, 1.6, 2.0};
+  for (const double a : kLadder) {
+    for (int p = 0; p < n; ++p) {
+      m.inv_mass[p] = inv_mass0[p];
+      m.damping[p] = damping0[p];
+      const double im = inv_mass0[p];
+      if (im == 0.0 || d[p] == 0.0) { slow[p] = 1; continue; }  // fixed, or no stiffness: never limits
+      const double need = d[p] * want * want / 4.0 * im;  // inertial mass for the proxy to admit the tick / own mass
+      if (need <= 1.0) { slow[p] = 1; continue; }
+      const double factor = a * need;
+      slow[p] = !excluded[p] && factor <= max_factor;
+      if (slow[p]) {
+        m.inv_mass[p] = im / factor;
+        m.damping[p] = damping0[p] / factor;
+      }
+    }
+    order_tet_rates(te, orig, slow);
+    if (te.fast_count == nt) continue;
+    const double slow_limit = estimate_stable_dt(m, TetPass::SlowOnly);
+    if (!(margin * slow_limit >= m.dt)) continue;
+    // admitted: the inertia stays only on the vertices of slow elements
+    std::vector<uint8_t> in_slow(n, 0);
+    for (int k = 4 * te.fast_count; k < 4 * nt; ++k) in_slow[te.v[k]] = 1;
+    std::vector<double> kept(m.components.size(), 0.0);  // [kg]
+    double total = 0.0;
+    for (int p = 0; p < n; ++p) {
+      if (m.inv_mass[p] == inv_mass0[p]) continue;
+      if (!in_slow[p]) {
+        m.inv_mass[p] = inv_mass0[p];
+        m.damping[p] = damping0[p];
+        continue;
+      }
+      const double add = 1.0 / m.inv_mass[p] - 1.0 / inv_mass0[p];
+      total += add;
+      for (size_t c = 0; c < m.components.size(); ++c)
+        if (p >= m.components[c].first_particle && p < m.components[c].first_particle + m.components[c].particle_count)
+          kept[c] += add;
+    }
+    notes.push_back(slow_group_line(te, slow_limit));
+    if (!(total > 0.0)) return true;
+    char b[160];
+    std::snprintf(b, sizeof b, "multirate inertia: %.4g g added for the slow group (amplification %.3g of the proxy's need", total * 1e3, a);
+    std::string line = b;
+    for (size_t c = 0; c < kept.size(); ++c) {
+      if (!(kept[c] > 0.0)) continue;
+      std::snprintf(b, sizeof b, "; %s %.4g g", m.components[c].name.c_str(), kept[c] * 1e3);
+      line += b;
+    }
+    notes.push_back(line + ")");
+    return true;
+  }
+  m.inv_mass = inv_mass0;
+  m.damping = damping0;
+  te.v = orig.v; te.g = orig.g; te.vol0 = orig.vol0; te.mu = orig.mu;
+  te.fast_count = nt;
+  return false;
+}
+
 void compile_time_step(const ScenarioSpec& spec, Model& m, CompileWork& work) {
   auto& warnings = work.warnings;
   auto& notes = work.notes;
   // stability: raise substeps so each substep is at most 90% of the estimated limit, or (with
   // solver.mass_scaling) add inertia to the particles that set the limit
-  if (spec.multirate) notes.push_back(partition_tet_rates(m, 0.9));
+  const bool tick_inertia = spec.multirate && spec.multirate_inertia > 1.0 &&
+                            partition_tet_rates_with_inertia(m, 0.9, spec.multirate_inertia, notes);
+  if (spec.multirate && !tick_inertia) notes.push_back(partition_tet_rates(m, 0.9));
   // with multi-rate the substep is set by the fast group (the held slow force is a constant
   // within a tick); the slow group was checked against the tick above
   m.stable_dt_estimate = estimate_stable_dt(m, m.tets.multirate() ? TetPass::FastOnly : TetPass::All);
   if (spec.mass_scaling) scale_inertia_to_substep(m, 0.9);
+  if (tick_inertia) {
+    // both scalings against the physical mass (scale_inertia_to_substep counts only its own)
+    m.added_inertia = 0.0;
+    m.largest_inertia_factor = 1.0;
+    for (int p = 0, n = m.particle_count(); p < n; ++p) {
+      if (m.inv_mass[p] == 0.0 || !(m.mass[p] > 0.0)) continue;
+      const double inertial = 1.0 / m.inv_mass[p];  // [kg]
+      if (inertial <= m.mass[p]) continue;
+      m.added_inertia += inertial - m.mass[p];
+      m.largest_inertia_factor = std::max(m.largest_inertia_factor, inertial / m.mass[p]);
+    }
+  }
   const double h = m.dt / m.substeps;
   if (h > 0.9 * m.stable_dt_estimate) {
     // In double first: a stiffness like young_kpa 1e9 gives a stable step so small that the count

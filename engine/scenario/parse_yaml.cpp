@@ -313,10 +313,15 @@ ScenarioSpec parse_scenario_impl(const std::string& text, const std::string& pat
   }
   if (root["solver"]) {
     const YAML::Node t = root["solver"];
-    r.only_keys(t, "solver", {"redistribution", "triplets", "mass_scaling", "multirate", "pressure_iterations", "sleep",
+    r.only_keys(t, "solver", {"redistribution", "triplets", "mass_scaling", "multirate", "multirate_inertia", "pressure_iterations", "sleep",
                           "sleep_wake_m_s2", "stiffness_damping_s"});
     if (t["mass_scaling"]) s.mass_scaling = r.boolean(t["mass_scaling"], "solver.mass_scaling");
     if (t["multirate"]) s.multirate = r.boolean(t["multirate"], "solver.multirate");
+    if (t["multirate_inertia"]) {
+      s.multirate_inertia = r.ranged(t["multirate_inertia"], "solver.multirate_inertia", 1.0, 16.0, "x own mass");
+      if (!s.multirate && s.multirate_inertia > 1.0)
+        r.fail(t["multirate_inertia"], "solver.multirate_inertia", "needs solver.multirate: true");
+    }
     if (t["sleep"]) s.sleep = r.boolean(t["sleep"], "solver.sleep");
     if (t["sleep_wake_m_s2"]) s.sleep_wake_accel = r.ranged(t["sleep_wake_m_s2"], "solver.sleep_wake_m_s2", 1e-3, 100.0, "m/s^2");
     if (s.sleep && s.multirate) r.fail(t["sleep"], "solver.sleep", "cannot be combined with solver.multirate (both choose which tet elements run)");

@@ -201,6 +201,8 @@ struct ScenarioSpec {
   int max_triplets = 0;            // solver.triplets: all (0) | N best-conditioned per particle
   bool mass_scaling = false;       // solver.mass_scaling: scale inertia to the file's substep
   bool multirate = false;          // solver.multirate: tet elements that admit the tick run once per tick
+  double multirate_inertia = 1.0;  // solver.multirate_inertia: largest factor of inertial mass that lets a
+                                   // particle's elements join the slow group (1: none; compile_time_step.cpp)
   int pressure_iterations = 1;     // solver.pressure_iterations: linearised solves of the implicit
                                    // pressure per substep (materials with pressure: implicit)
   bool sleep = false;              // solver.sleep: tet tissue at rest and in balance sleeps (Model::sleep)

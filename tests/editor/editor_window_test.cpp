@@ -95,7 +95,7 @@ TEST_F(EditorWindow, PreviewRunsTheEditedSceneAsTheSimulationDoes) {
   ASSERT_EQ(edit("--set materials.prostate.young_kpa=45 --save --preview 0.03", png), 0) << log();
   std::smatch m;
   const std::string l = log();
-  ASSERT_TRUE(std::regex_search(l, m, std::regex("preview: 30 ticks, t = 0.03 s, state hash ([0-9a-f]{16})"))) << l;
+  ASSERT_TRUE(std::regex_search(l, m, std::regex("preview: [0-9]+ ticks, t = 0.03 s, state hash ([0-9a-f]{16})"))) << l;
   const auto run = ps::test::run_cli("run " + file_.string() + " --headless --unpaced --duration 0.03 --hash");
   ASSERT_EQ(run.code, 0) << run.out;
   EXPECT_NE(run.out.find(m[1].str()), std::string::npos) << "preview " << m[1] << ", run: " << run.out;

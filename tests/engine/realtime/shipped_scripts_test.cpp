@@ -20,6 +20,7 @@ namespace {
 
 struct Outcome {
   int64_t ticks = 0, end_tick = 0;
+  double dt = 0.0;  // the scene's tick [s]
   int64_t applied = 0, refused = 0, commands = 0;
   int cores = 0, seeds = 0, punctures = 0;
   std::string fault;
@@ -42,6 +43,7 @@ Outcome run_shipped(const std::string& scene_file, const std::string& script_fil
   run.add_source(&player);
   const Watchdog dog(*sc.model);
   run.runner().set_watchdog(&dog);
+  o.dt = sc.model->dt;
   o.end_tick = static_cast<int64_t>(std::llround(s.duration / sc.model->dt));
   while (run.tick() < o.end_tick) {
     if (!run.advance_to(std::min(o.end_tick, run.tick() + 250))) break;
@@ -67,7 +69,7 @@ TEST(ShippedScripts, BiopsyRunsToTheEndAndTakesItsCore) {
   const Outcome o = run_shipped("biopsy.yaml", "biopsy.yaml");
   EXPECT_EQ(o.fault, "");
   EXPECT_EQ(o.ticks, o.end_tick);
-  EXPECT_EQ(o.end_tick, 3000);
+  EXPECT_NEAR(o.end_tick * o.dt, 3.0, 1e-9);  // the script's 3 s
   EXPECT_EQ(o.refused, 0);
   EXPECT_EQ(o.applied, o.commands);
   EXPECT_GE(o.punctures, 1);
@@ -79,7 +81,7 @@ TEST(ShippedScripts, BrachytherapyRunsToTheEndAndDropsEverySeed) {
   const Outcome o = run_shipped("brachytherapy.yaml", "brachytherapy.yaml");
   EXPECT_EQ(o.fault, "");
   EXPECT_EQ(o.ticks, o.end_tick);
-  EXPECT_EQ(o.end_tick, 6500);
+  EXPECT_NEAR(o.end_tick * o.dt, 6.5, 1e-9);  // the script's 6.5 s
   EXPECT_EQ(o.refused, 0);
   EXPECT_EQ(o.applied, o.commands);
   EXPECT_GE(o.punctures, 1);
