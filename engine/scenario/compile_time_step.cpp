@@ -255,6 +255,7 @@ bool partition_tet_rates_with_inertia(Model& m, double margin, double max_factor
   if (nt == 0) return false;
   const std::vector<double> d = stiffness_proxy(m);
   const double want = m.dt / margin;  // the per-particle limit the partition asks for [s]
+  const double beta = m.stiffness_damping;  // [s]
   std::vector<uint8_t> excluded(n, 0);
   for (int v : m.shells.tri) excluded[v] = 1;
   for (size_t a = 0; a < te.nodes.size(); ++a)
@@ -269,7 +270,9 @@ bool partition_tet_rates_with_inertia(Model& m, double margin, double max_factor
       m.damping[p] = damping0[p];
       const double im = inv_mass0[p];
       if (im == 0.0 || d[p] == 0.0) { slow[p] = 1; continue; }  // fixed, or no stiffness: never limits
-      const double need = d[p] * want * want / 4.0 * im;  // inertial mass for the proxy to admit the tick / own mass
+      // inertial mass for the proxy to admit the tick / own mass: the damped limit
+      // (2 / w)(sqrt(1 + z^2) - z), z = beta w / 2, reaches `want` at w = 2 / sqrt(want (want + 2 beta))
+      const double need = d[p] * want * (want + 2.0 * beta) / 4.0 * im;
       if (need <= 1.0) { slow[p] = 1; continue; }
       const double factor = a * need;
       slow[p] = !excluded[p] && factor <= max_factor;

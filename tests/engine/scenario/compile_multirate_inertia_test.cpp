@@ -67,6 +67,17 @@ TEST(MultirateInertia, MovesTheSoftBulkIntoTheSlowGroup) {
   EXPECT_NEAR(m->added_inertia, added, 1e-9 * added) << "the report counts what was added";
 }
 
+// With stiffness damping the particle's limit is the damped one, (2 / w)(sqrt(1 + z^2) - z): the
+// inertia is sized to it, and the slow group still admits the tick.
+TEST(MultirateInertia, SizesTheInertiaToTheDampedLimit) {
+  const auto m = test::compile_text(block_yaml("{multirate: true, multirate_inertia: 4, stiffness_damping_s: 2.5e-5}"));
+  const auto undamped = test::compile_text(block_yaml("{multirate: true, multirate_inertia: 4}"));
+  ASSERT_GT(m->stiffness_damping, 0.0);
+  EXPECT_GT(m->tets.count() - m->tets.fast_count, 3 * m->tets.count() / 4);
+  EXPECT_GE(0.9 * estimate_stable_dt(*m, TetPass::SlowOnly), m->dt);
+  EXPECT_GT(m->added_inertia, undamped->added_inertia) << "the damped limit is shorter: more inertia for the same tick";
+}
+
 TEST(MultirateInertia, SettlesToThePlainEquilibriumAndComesToRest) {
   const auto m = test::compile_text(block_yaml("{multirate: true, multirate_inertia: 4}"));
   const auto plain = test::compile_text(block_yaml("{multirate: false}"));
