@@ -1,5 +1,7 @@
 #include "app/gui/session.h"
 
+#include <algorithm>
+
 #include "engine/tools/needle.h"
 #include "engine/util/error.h"
 
@@ -51,13 +53,20 @@ const std::string& Session::recording_path() const {
 
 const Snapshot& Session::latest() {
   fresh_ = loop_->update_snapshot();
-  return loop_->snapshot();
+  const Snapshot& s = loop_->snapshot();
+  if (fresh_) {
+    // a restart keeps counting, so the seqs only go up within this session's loop
+    first_new_event_ = 0;
+    while (first_new_event_ < s.events.size() && s.events[first_new_event_].seq <= taken_event_seq_) ++first_new_event_;
+    if (!s.events.empty()) taken_event_seq_ = std::max(taken_event_seq_, s.events.back().seq);
+  }
+  return s;
 }
 
 std::span<const SnapshotEvent> Session::new_events() const {
   if (!fresh_) return {};
   const auto& e = loop_->snapshot().events;
-  return {e.data(), e.size()};
+  return {e.data() + first_new_event_, e.size() - first_new_event_};
 }
 
 void Session::pause(bool p) {

@@ -30,7 +30,8 @@ class Session {
   int64_t end_tick() const { return end_tick_; }
   PhysicsLoop& loop() { return *loop_; }
 
-  // Newest snapshot; new_events(): its events when it is new since the previous latest() call.
+  // Newest snapshot; new_events(): its events not taken before (a snapshot carries every event
+  // the reader may have missed, so those already taken are skipped by SnapshotEvent::seq).
   const Snapshot& latest();
   std::span<const SnapshotEvent> new_events() const;
   LoopTiming timing() const { return loop_->timing(); }
@@ -71,6 +72,8 @@ class Session {
   int64_t end_tick_ = -1;
   std::unique_ptr<render::Renderer> renderer_;
   bool fresh_ = false;
+  size_t first_new_event_ = 0;     // in the latest snapshot's events
+  uint64_t taken_event_seq_ = 0;   // the newest event seq taken
   bool run_records_ = false;       // the borrowed run writes a recording (--record)
 };
 

@@ -40,6 +40,11 @@ struct SnapshotEvent {
   double depth = 0.0;              // [m]
   double force = 0.0;              // [N]
   std::array<char, 96> text{};     // human-readable, NUL-terminated
+  // Order of the event, from 1, increasing across a run (a reset goes on counting). A threaded
+  // loop's snapshot carries every event its reader may not have taken yet, so a reader that took
+  // an earlier snapshot can meet an event again: it keeps the newest seq it took and skips the
+  // rest (gui::Session::latest).
+  uint64_t seq = 0;
 };
 
 struct Snapshot {

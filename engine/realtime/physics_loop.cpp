@@ -63,6 +63,7 @@ PhysicsLoop::PhysicsLoop(Simulation& sim, LoopOptions opt) : opt_(opt), runner_(
     s.tools.reserve(sim.tools().size());
     s.events.reserve(256);
   }
+  unread_.reserve(256);
 }
 
 PhysicsLoop::~PhysicsLoop() { stop(); }
@@ -77,8 +78,7 @@ void PhysicsLoop::start() {
   stop_.store(false);
   running_.store(true, std::memory_order_release);
   // the first snapshot (tick 0) is there before the thread runs
-  runner_.fill_snapshot(snaps_.back());
-  snaps_.publish();
+  publish();
   thread_ = std::thread([this] { thread_main(); });
 }
 
@@ -139,7 +139,7 @@ void PhysicsLoop::do_load() {
   }
   tick_.store(runner_.tick(), std::memory_order_release);
   faulted_.store(false, std::memory_order_release);
-  skipped_unread_ = false;
+  unread_.clear();
   publish();  // readers see the loaded state at once (before start(): start() publishes again)
 }
 
@@ -150,9 +150,24 @@ LoopTiming PhysicsLoop::timing() const {
 
 void PhysicsLoop::publish() {
   const auto t0 = Clock::now();
-  // events of a snapshot the reader skipped are kept and the new ones appended
-  runner_.fill_snapshot(snaps_.back(), skipped_unread_);
-  skipped_unread_ = snaps_.publish();
+  // The snapshot carries the events the reader may not have taken, then the new ones. Carrying
+  // only the events of the buffer handed back (as before) lost their order when the reader
+  // skipped two snapshots in a row: the skipped snapshot's events sat in the middle buffer while
+  // the next one went out without them, and reached the reader after it.
+  Snapshot& b = snaps_.back();
+  b.events.assign(unread_.begin(), unread_.end());  // capacity reserved: no allocation
+  runner_.fill_snapshot(b, true);
+  const size_t skip = b.events.size() > kMaxUnread ? b.events.size() - kMaxUnread : 0;
+  unread_.assign(b.events.begin() + static_cast<std::ptrdiff_t>(skip), b.events.end());
+  const uint64_t newest = b.events.empty() ? published_seq_ : b.events.back().seq;
+  // the buffer handed back was taken by the reader unless it is the previous snapshot, unread:
+  // then the reader has every event up to that snapshot's newest
+  if (!snaps_.publish()) {
+    size_t k = 0;
+    while (k < unread_.size() && unread_[k].seq <= published_seq_) ++k;
+    unread_.erase(unread_.begin(), unread_.begin() + static_cast<std::ptrdiff_t>(k));
+  }
+  published_seq_ = newest;
   publish_acc_ += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   ++publish_n_;
 }
@@ -246,7 +261,7 @@ void PhysicsLoop::thread_loop() {
       run_hist_.fill(0);
       run_max_ms_ = 0.0;
       faulted_.store(false, std::memory_order_release);
-      skipped_unread_ = false;
+      unread_.clear();
       publish();
       anchor_wall = wall_s();
       anchor_tick = 0;

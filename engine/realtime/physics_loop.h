@@ -164,7 +164,12 @@ class PhysicsLoop {
   double last_tick_start_ = -1.0;
   int64_t overruns_ = 0, reanchors_ = 0;
   bool lagging_ = false;
-  bool skipped_unread_ = false;    // the back buffer holds a snapshot the reader never took
+  // Events published that the reader may not have taken (in seq order; at most kMaxUnread, the
+  // oldest dropped beyond it). Each snapshot carries them ahead of its own, so a reader that skips
+  // snapshots still meets every event, in order (publish()).
+  static constexpr size_t kMaxUnread = 128;
+  std::vector<SnapshotEvent> unread_;
+  uint64_t published_seq_ = 0;     // the newest event seq in the snapshot published last
   mutable std::mutex timing_mu_;   // the physics thread only try_locks it
   LoopTiming timing_;
   mutable std::mutex fault_mu_;    // guards the two below (the physics thread locks it only on a fault or reset)

@@ -208,6 +208,7 @@ void TickRunner::fill_snapshot(Snapshot& out, bool keep_events, bool with_hash) 
   const auto& tools = sim_.tools();
   out.tools.resize(tools.size());
   if (!keep_events) out.events.clear();
+  const size_t carried = out.events.size();
   for (size_t i = 0; i < tools.size(); ++i) {
     tools[i]->draw(out.draw, m, s);
     ToolReadout& r = out.tools[i];
@@ -229,6 +230,7 @@ void TickRunner::fill_snapshot(Snapshot& out, bool keep_events, bool with_hash) 
     out.events.push_back(e);
   }
   refusal_cursor_ = rr.total();
+  for (size_t k = carried; k < out.events.size(); ++k) out.events[k].seq = ++event_seq_;
   out.state_hash = with_hash ? sim_.hash() : 0;
   out.faulted = faulted_ || s.fault.kind != StepFault::None;
   out.fault.fill(0);

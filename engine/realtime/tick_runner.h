@@ -145,6 +145,7 @@ class TickRunner {
   std::vector<uint8_t> initial_;
   std::vector<int64_t> event_cursor_;  // per tool
   int64_t refusal_cursor_ = 0;
+  uint64_t event_seq_ = 0;             // the last SnapshotEvent::seq given
   const Watchdog* watchdog_ = nullptr;
   bool keep_good_ = false;
   // recovery (keep_last_good): the state after checkpoint_tick_ ticks, before that tick's
