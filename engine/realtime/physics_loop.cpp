@@ -155,10 +155,11 @@ void PhysicsLoop::publish() {
   // skipped two snapshots in a row: the skipped snapshot's events sat in the middle buffer while
   // the next one went out without them, and reached the reader after it.
   Snapshot& b = snaps_.back();
+  const size_t carried = unread_.size();
   b.events.assign(unread_.begin(), unread_.end());  // capacity reserved: no allocation
   runner_.fill_snapshot(b, true);
-  const size_t skip = b.events.size() > kMaxUnread ? b.events.size() - kMaxUnread : 0;
-  unread_.assign(b.events.begin() + static_cast<std::ptrdiff_t>(skip), b.events.end());
+  unread_.insert(unread_.end(), b.events.begin() + static_cast<std::ptrdiff_t>(carried), b.events.end());
+  if (unread_.size() > kMaxUnread) unread_.erase(unread_.begin(), unread_.end() - static_cast<std::ptrdiff_t>(kMaxUnread));
   const uint64_t newest = b.events.empty() ? published_seq_ : b.events.back().seq;
   // the buffer handed back was taken by the reader unless it is the previous snapshot, unread:
   // then the reader has every event up to that snapshot's newest

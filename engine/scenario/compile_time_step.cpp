@@ -82,6 +82,22 @@ double estimate_stable_dt(const Model& m, TetPass pass) {
 // for strain clusters, (2 mu V + lambda V) |g|^2 + k_r) gives m_p' = max(m_p, A d_p h^2 / 4); the
 // amplification A starts at 2 and grows until the power-iteration estimate of the whole scene
 // (any force stage, estimate_stable_dt) admits h. Deterministic; compile time only.
+namespace {
+// Model::added_inertia and largest_inertia_factor from the inertial masses against the physical
+// ones: whatever added them (the substep's scaling, the multi-rate tick's, or both).
+void tally_added_inertia(Model& m) {
+  m.added_inertia = 0.0;
+  m.largest_inertia_factor = 1.0;
+  for (int p = 0, n = m.particle_count(); p < n; ++p) {
+    if (m.inv_mass[p] == 0.0 || !(m.mass[p] > 0.0)) continue;
+    const double inertial = 1.0 / m.inv_mass[p];  // [kg]
+    if (inertial <= m.mass[p]) continue;
+    m.added_inertia += inertial - m.mass[p];
+    m.largest_inertia_factor = std::max(m.largest_inertia_factor, inertial / m.mass[p]);
+  }
+}
+}  // namespace
+
 void scale_inertia_to_substep(Model& m, double margin) {
   const int n = m.particle_count();
   const double h = m.dt / m.substeps;
@@ -93,8 +109,6 @@ void scale_inertia_to_substep(Model& m, double margin) {
   double A = 2.0;
   for (int it = 0; it < 40 && m.stable_dt_estimate * margin < h; ++it) {
     const double want = h / margin;  // the limit the estimate must reach [s]
-    m.added_inertia = 0.0;
-    m.largest_inertia_factor = 1.0;
     for (int p = 0; p < n; ++p) {
       m.inv_mass[p] = inv_mass0[p];
       m.damping[p] = damping0[p];
@@ -105,13 +119,12 @@ void scale_inertia_to_substep(Model& m, double margin) {
       if (need * inv_mass0[p] <= 1.0) continue;
       m.inv_mass[p] = 1.0 / need;
       m.damping[p] = damping0[p] * need * inv_mass0[p] > 0.0 ? damping0[p] / (need * inv_mass0[p]) : 0.0;
-      m.added_inertia += need - m.mass[p];
-      m.largest_inertia_factor = std::max(m.largest_inertia_factor, need * inv_mass0[p]);
     }
     m.stable_dt_estimate = estimate_stable_dt(m, m.tets.multirate() ? TetPass::FastOnly : TetPass::All);
     const double r = want / m.stable_dt_estimate;
     A *= std::max(1.05, r * r);
   }
+  tally_added_inertia(m);
 }
 
 // Per-particle stiffness proxy d_p [N/m]: k_e of its own attractor plus the shares of the
@@ -193,6 +206,14 @@ void order_tet_rates(TetElements& te, const TetOrder& orig, const std::vector<ui
   }
 }
 
+void restore_tet_order(TetElements& te, const TetOrder& orig) {
+  te.v = orig.v;
+  te.g = orig.g;
+  te.vol0 = orig.vol0;
+  te.mu = orig.mu;
+  te.fast_count = te.count();
+}
+
 std::string slow_group_line(const TetElements& te, double slow_limit) {
   char b[200];
   std::snprintf(b, sizeof b, "multirate: %d of %d tet elements once per tick (slow group's stable step %.3g ms)",
@@ -228,8 +249,7 @@ std::string partition_tet_rates(Model& m, double margin) {
     for (size_t i = 0; i < drop && i < by_limit.size(); ++i) slow[by_limit[i].second] = 0;
   }
   // give up: every element every substep
-  te.v = orig.v; te.g = orig.g; te.vol0 = orig.vol0; te.mu = orig.mu;
-  te.fast_count = nt;
+  restore_tet_order(te, orig);
   return "multirate: the slow group's estimate never admitted the tick; every element runs every substep";
 }
 
@@ -299,9 +319,7 @@ bool partition_tet_rates_with_inertia(Model& m, double margin, double max_factor
       }
       const double add = 1.0 / m.inv_mass[p] - 1.0 / inv_mass0[p];
       total += add;
-      for (size_t c = 0; c < m.components.size(); ++c)
-        if (p >= m.components[c].first_particle && p < m.components[c].first_particle + m.components[c].particle_count)
-          kept[c] += add;
+      kept[static_cast<size_t>(m.component_of[p])] += add;
     }
     notes.push_back(slow_group_line(te, slow_limit));
     if (!(total > 0.0)) return true;
@@ -318,8 +336,7 @@ bool partition_tet_rates_with_inertia(Model& m, double margin, double max_factor
   }
   m.inv_mass = inv_mass0;
   m.damping = damping0;
-  te.v = orig.v; te.g = orig.g; te.vol0 = orig.vol0; te.mu = orig.mu;
-  te.fast_count = nt;
+  restore_tet_order(te, orig);
   return false;
 }
 
@@ -335,18 +352,7 @@ void compile_time_step(const ScenarioSpec& spec, Model& m, CompileWork& work) {
   // within a tick); the slow group was checked against the tick above
   m.stable_dt_estimate = estimate_stable_dt(m, m.tets.multirate() ? TetPass::FastOnly : TetPass::All);
   if (spec.mass_scaling) scale_inertia_to_substep(m, 0.9);
-  if (tick_inertia) {
-    // both scalings against the physical mass (scale_inertia_to_substep counts only its own)
-    m.added_inertia = 0.0;
-    m.largest_inertia_factor = 1.0;
-    for (int p = 0, n = m.particle_count(); p < n; ++p) {
-      if (m.inv_mass[p] == 0.0 || !(m.mass[p] > 0.0)) continue;
-      const double inertial = 1.0 / m.inv_mass[p];  // [kg]
-      if (inertial <= m.mass[p]) continue;
-      m.added_inertia += inertial - m.mass[p];
-      m.largest_inertia_factor = std::max(m.largest_inertia_factor, inertial / m.mass[p]);
-    }
-  }
+  if (tick_inertia) tally_added_inertia(m);  // also where the substep needed none
   const double h = m.dt / m.substeps;
   if (h > 0.9 * m.stable_dt_estimate) {
     // In double first: a stiffness like young_kpa 1e9 gives a stable step so small that the count

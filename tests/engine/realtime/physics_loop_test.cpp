@@ -28,6 +28,14 @@ uint64_t lockstep_hash(int64_t ticks) {
   return run.hash();
 }
 
+// started paused (single steps only), no timing log
+LoopOptions paused_quiet() {
+  LoopOptions opt;
+  opt.start_paused = true;
+  opt.log_timing = false;
+  return opt;
+}
+
 TEST(PhysicsLoop, ThreadedRunGivesTheLockstepBitsAndConsistentSnapshots) {
   constexpr int64_t kTicks = 400;
   const uint64_t expected = lockstep_hash(kTicks);
@@ -67,10 +75,7 @@ TEST(PhysicsLoop, ThreadedRunGivesTheLockstepBitsAndConsistentSnapshots) {
 
 TEST(PhysicsLoop, PauseSingleStepResetAndFactor) {
   Scene sc = test::make_live_scene();
-  LoopOptions opt;
-  opt.start_paused = true;
-  opt.log_timing = false;
-  PhysicsLoop loop(*sc.sim, opt);
+  PhysicsLoop loop(*sc.sim, paused_quiet());
   const uint64_t h0 = sc.sim->hash();
   loop.start();
   std::this_thread::sleep_for(std::chrono::milliseconds(30));
@@ -134,10 +139,7 @@ TEST(PhysicsLoop, TooHeavyForTheFactorRunsInReportedSlowMotionWithoutCatchingUp)
 // one refused command each (a refusal is an event), stepped one at a time.
 TEST(PhysicsLoop, AReaderThatSkipsSnapshotsMeetsEveryEventOnceInOrder) {
   Scene sc = test::make_live_scene();
-  LoopOptions opt;
-  opt.start_paused = true;
-  opt.log_timing = false;
-  PhysicsLoop loop(*sc.sim, opt);
+  PhysicsLoop loop(*sc.sim, paused_quiet());
   loop.start();
   std::vector<SnapshotEvent> got;
   uint64_t taken = 0;
