@@ -39,6 +39,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+// this thread's CPU time [ns]
+int64_t thread_cpu_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
+}
 
 struct BenchArgs {
   bool quick = false;
@@ -60,6 +66,11 @@ std::string find_root(const std::string& given) {
 // --- 1. real time --------------------------------------------------------------------------------
 struct Realtime {
   double factor = 0, p99_us = 0, median_us = 0, sim_s = 0;
+  // the same ticks in this thread's CPU time [us]: the physics' own cost, without the time the
+  // host gave the core to someone else in the middle of a tick (the wall time's tail on a shared
+  // machine); and how many ticks lost more than 10 % of the period that way
+  double p99_cpu_us = 0, median_cpu_us = 0;
+  int64_t ticks = 0, preempted_ticks = 0;
   double period_us = 0;   // the scene's tick, the p99's bound [us]
   double factor_cpu = 0;  // simulated s per CPU s of this process: steadier on a shared machine
   int particles = 0, substeps = 0;
@@ -80,15 +91,20 @@ Realtime realtime_of(const std::string& file, const std::string& script_file, do
   r.period_us = m.dt * 1e6;
   for (Stage s : sr.sc.sim->pipeline()) r.pipeline.push_back(stage_name(s));
   const int64_t ticks = std::max<int64_t>(1, std::min<int64_t>(sr.ticks(), std::llround(seconds / m.dt)));
-  std::vector<double> us;
+  std::vector<double> us, cpu_us;
   us.reserve(ticks);
+  cpu_us.reserve(ticks);
   const auto t0 = Clock::now();
   const std::clock_t c0 = std::clock();
   for (int64_t k = 0; k < ticks; ++k) {
+    const int64_t c = thread_cpu_ns();
     const auto a = Clock::now();
     if (!sr.run.step()) { r.faulted = true; break; }
     us.push_back(since(a) * 1e6);
+    cpu_us.push_back((thread_cpu_ns() - c) * 1e-3);
+    if (us.back() - cpu_us.back() > 0.1 * r.period_us) ++r.preempted_ticks;
   }
+  r.ticks = static_cast<int64_t>(us.size());
   const double wall = since(t0);
   const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
   r.sim_s = sr.sc.sim->state().time;
@@ -98,6 +114,9 @@ Realtime realtime_of(const std::string& file, const std::string& script_file, do
     std::sort(us.begin(), us.end());
     r.p99_us = us[std::min(us.size() - 1, static_cast<size_t>(0.99 * us.size()))];
     r.median_us = us[us.size() / 2];
+    std::sort(cpu_us.begin(), cpu_us.end());
+    r.p99_cpu_us = cpu_us[std::min(cpu_us.size() - 1, static_cast<size_t>(0.99 * cpu_us.size()))];
+    r.median_cpu_us = cpu_us[cpu_us.size() / 2];
   }
   return r;
 }
@@ -307,6 +326,10 @@ void add_bench_command(CLI::App& app, Runner& run) {
         j[std::string("tick_p99_us_") + scene] = r.p99_us;
         j[std::string("tick_period_us_") + scene] = r.period_us;
         j[std::string("tick_median_us_") + scene] = r.median_us;
+        j[std::string("tick_p99_cpu_us_") + scene] = r.p99_cpu_us;
+        j[std::string("tick_median_cpu_us_") + scene] = r.median_cpu_us;
+        j[std::string("ticks_") + scene] = r.ticks;
+        j[std::string("ticks_preempted_") + scene] = r.preempted_ticks;
         j[std::string("particles_") + scene] = r.particles;
         j[std::string("substeps_") + scene] = r.substeps;
         j[std::string("pipeline_") + scene] = r.pipeline;
@@ -397,11 +420,13 @@ void add_bench_command(CLI::App& app, Runner& run) {
                                 {"wall_s_per_sim_s", c.wall_per_sim}, {"err_rms_rel", std::isfinite(c.err_rms) ? nlohmann::json(c.err_rms) : nlohmann::json()},
                                 {"pareto", c.pareto}, {"shipped", c.shipped}});
       if (!a->json.empty()) write_file_atomic(a->json, j.dump(2) + "\n");
-      std::printf("realtime_factor_biopsy %.3g  realtime_factor_brachytherapy %.3g  tick_p99_us_biopsy %.0f (period %.0f)  "
-                  "step_us_1300 %.1f  particles_biopsy %d\n",
-                  j["realtime_factor_biopsy"].get<double>(), j["realtime_factor_brachytherapy"].get<double>(),
-                  j["tick_p99_us_biopsy"].get<double>(), j["tick_period_us_biopsy"].get<double>(), j["step_us_1300"].get<double>(),
-                  j["particles_biopsy"].get<int>());
+      for (const std::string scene : {"biopsy", "brachytherapy"})
+        std::printf("%-14s realtime factor %.3g, tick p99 %.0f us wall / %.0f us CPU (period %.0f us), %lld of %lld ticks preempted\n",
+                    scene.c_str(), j["realtime_factor_" + scene].get<double>(), j["tick_p99_us_" + scene].get<double>(),
+                    j["tick_p99_cpu_us_" + scene].get<double>(), j["tick_period_us_" + scene].get<double>(),
+                    static_cast<long long>(j["ticks_preempted_" + scene].get<int64_t>()),
+                    static_cast<long long>(j["ticks_" + scene].get<int64_t>()));
+      std::printf("step_us_1300 %.1f  particles_biopsy %d\n", j["step_us_1300"].get<double>(), j["particles_biopsy"].get<int>());
       std::printf("%-8s %8s %9s %14s %10s %s\n", "model", "h_mm", "substeps", "wall_s/sim_s", "err_rms_%", "");
       for (const auto& c : cs)
         std::printf("%-8s %8.3g %9d %14.4g %10.3g %s%s\n", c.model.c_str(), c.spacing_mm, c.substeps, c.wall_per_sim, 100 * c.err_rms,

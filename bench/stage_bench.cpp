@@ -9,6 +9,7 @@
 
 #include "bench/bench_common.h"
 #include "bench/bench_modes.h"
+#include "engine/model/shell_elements.h"
 #include "engine/step/stages.h"
 
 namespace ps::bench {
@@ -85,6 +86,24 @@ void BM_TetRangePass(benchmark::State& state) {
                                                                        benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_TetRangePass)->ArgsProduct({{0, 1}, {0, 1, 2}})->Unit(benchmark::kMicrosecond);
+
+// The shell walls' passes over the warmed biopsy scene's bladder and rectum (arg 0 membranes,
+// 1 hinges), as the step runs them: blocks of lanes, the same bits as the scalar pass
+// (tests/engine/step/shell_elastic_test.cpp).
+void BM_ShellForces(benchmark::State& state) {
+  const bool hinges = state.range(0) != 0;
+  auto sim = warmed("biopsy");
+  const ShellElements& sh = sim->model().shells;
+  State& s = sim->state();
+  const int n = hinges ? sh.hinge_count() : sh.triangle_count();
+  for (auto _ : state) {
+    if (hinges) add_shell_hinge_forces(sh, s.x.data(), 0, n, s.f.data());
+    else add_shell_membrane_forces(sh, s.x.data(), 0, n, s.f.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["per_element"] = benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_ShellForces)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 constexpr auto kOpt = BM_ShapeMemoryImpl<add_shape_memory_forces>;
 constexpr auto kRef = BM_ShapeMemoryImpl<reference_add_shape_memory_forces>;

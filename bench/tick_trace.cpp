@@ -1,7 +1,7 @@
 // `prostatesim_bench --tick-trace SCENARIO SCRIPT [WINDOW_MS]`: runs a scenario file with its
 // script once (as `prostatesim run` builds it, lockstep, no pacing) and prints, per window of
-// simulated time (default 250 ms), this thread's CPU time per tick: mean, p99 and max, and the
-// stages that take the most of it. It finds the phases of a script (needles deep, a puncture,
+// simulated time (default 250 ms), this thread's CPU time per tick: mean, p99 and max, and every
+// stage that took part of it, the largest first. It finds the phases of a script (needles deep, a puncture,
 // a seed drop) that set the real-time loop's p99, which a whole-run profile averages away.
 // CPU time, not wall time, so a shared machine's other tenants blur it less.
 #include <algorithm>
@@ -74,7 +74,7 @@ int tick_trace(const std::string& file, const std::string& script_file, double w
       int order[kStageCount];
       for (int i = 0; i < kStageCount; ++i) order[i] = i;
       std::sort(order, order + kStageCount, [&](int a, int b) { return probe.ns[a] > probe.ns[b]; });
-      for (int i = 0; i < 5 && probe.ns[order[i]] > 0; ++i)
+      for (int i = 0; i < kStageCount && probe.ns[order[i]] > 0; ++i)
         std::printf(" %s %.3f", stage_name(static_cast<Stage>(order[i])), probe.ns[order[i]] * 1e-6 / win.size());
       std::printf("\n");
       std::fill(probe.ns, probe.ns + kStageCount, 0);

@@ -8,6 +8,7 @@
 // around the tip is tested (every substep before contact, every kPlanEvery substeps after).
 // Zone membership is then a classification of the tube (see needle.h).
 #include <algorithm>
+#include <cmath>
 
 #include "engine/tools/needle_internal.h"
 
@@ -218,10 +219,19 @@ void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s,
       if (dist2 <= Rc2) keep_nearest(nd.cut_idx, nd.cut_dist, nd.cut_n, p, std::sqrt(dist2));
       continue;
     }
-    // behind the tip plane: friction zones of the nodes within Rf
+    // behind the tip plane: friction zones of the nodes within Rf. Node j sits on the axis at
+    // u_j = j sp behind the tip, so its distance is sqrt(r^2 + (u - u_j)^2) with r the particle's
+    // distance from the axis: only the nodes with |u - u_j| <= sqrt(Rf^2 - r^2) can be in range,
+    // none when r > Rf (three quarters of the tube). The window is widened by 1 nm, far above
+    // the rounding of either form, and each node in it still takes the exact test below, so the
+    // zones are those of testing every node within Rf along the axis (same members, same bits).
     const double u = -a;
-    const int j_lo = std::max(0, static_cast<int>(std::ceil((u - nd.Rf) / sp)));
-    int j_hi = std::min(nd.node_count - 1, static_cast<int>(std::floor((u + nd.Rf) / sp)));
+    constexpr double kSlack = 1e-9;  // [m]
+    const double reach2 = (nd.Rf + kSlack) * (nd.Rf + kSlack) - (dist2 - a * a);
+    if (!(reach2 >= 0.0)) continue;
+    const double w = std::min(nd.Rf, std::sqrt(reach2) + kSlack);  // axial half-window [m]
+    const int j_lo = std::max(0, static_cast<int>(std::ceil((u - w) / sp)));
+    int j_hi = std::min(nd.node_count - 1, static_cast<int>(std::floor((u + w) / sp)));
     // nodes behind the hole are in the lumen (or the probe's guide): tissue beyond the wall
     // does not reach them through it
     if (through && c != nd.lumen) j_hi = std::min(j_hi, static_cast<int>(std::floor(-nd.exit_a / sp)));

@@ -334,6 +334,41 @@ TEST(Needle, ZoneUpdateCostDoesNotGrowWithTheScene) {
   EXPECT_LT(v_large, 0.5 * n_large);
 }
 
+TEST(Needle, FrictionZonesHoldEveryParticleWithinTheRadiusOfTheirNode) {
+  // The zone update tests a particle against the nodes its distance from the axis can reach
+  // (needle_zones.cpp): the zones must be what testing every node gives. 16 mm into the block,
+  // held; the next substep's zones (computed from this state and the tip the readout shows)
+  // against every movable particle behind the tip plane within 4 mm of each node.
+  BlockOptions o;
+  o.puncture = 0;  // no membrane: every particle behind the tip is zoned
+  auto s = make_needle_scene(
+      block_yaml(o, vertical_needle("n", 1.3, 0.9, "[[0, 0], [0.8, 16]]", "      friction_radius_mm: 4\n      node_spacing_mm: 2\n")));
+  ASSERT_TRUE(run(s, 0.9)) << s.sim->state().fault.describe(*s.model);
+  const Model& m = *s.model;
+  State state = s.sim->state();
+  const Vec3 T = s.tool->readout(0).tip, d = s.tool->readout(0).direction;
+  s.tool->forces(m, state, m.dt / m.substeps);  // zones from `state` (the needle moves after them)
+  const double Rf = 4e-3, sp = 2e-3;
+  int nodes_with_tissue = 0, members = 0;
+  for (int j = 0; j < 51; ++j) {
+    std::vector<std::pair<double, int>> want;  // (distance, particle): every node tested
+    for (int p = 0; p < m.particle_count(); ++p) {
+      if (m.inv_mass[p] == 0.0 || (state.x[p] - T).dot(d) >= 0.0) continue;
+      const double dj = (state.x[p] - (T - (j * sp) * d)).norm();
+      if (dj <= Rf) want.emplace_back(dj, p);
+    }
+    std::sort(want.begin(), want.end());
+    if (want.size() > static_cast<size_t>(kZoneCapacity)) want.resize(kZoneCapacity);
+    std::vector<int> want_idx, got = s.tool->zone_particles(0, j);
+    for (const auto& w : want) want_idx.push_back(w.second);
+    EXPECT_EQ(got, want_idx) << "node " << j;
+    nodes_with_tissue += !want.empty();
+    members += static_cast<int>(want.size());
+  }
+  EXPECT_GE(nodes_with_tissue, 7);  // 16 mm in: nodes 0-8 in the tissue
+  EXPECT_GT(members, 20);
+}
+
 TEST(Needle, ForceDepthCsvHasOneRowPerSample) {
   auto s = make_needle_scene(block_yaml(BlockOptions{}, vertical_needle("n", 1.3, 0.9, "[[0, 0], [0.5, 5]]")));
   ForceDepthRecorder rec(1);
