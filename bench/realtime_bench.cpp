@@ -23,17 +23,12 @@
 #include "engine/tools/filling.h"
 #include "engine/tools/needle.h"
 #include "engine/tools/probe.h"
+#include "engine/util/thread_cpu_time.h"
 
 namespace ps::bench {
 namespace {
 
 constexpr int kTicks = 300;
-
-double thread_cpu_s() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 void BM_Realtime(benchmark::State& state, const char* scene) {
   const ScenarioSpec spec = realtime_scene(scene, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),
@@ -50,11 +45,11 @@ void BM_Realtime(benchmark::State& state, const char* scene) {
   tick_s.reserve(kTicks);
   double cpu = 0.0;
   for (auto _ : state) {
-    const double c0 = thread_cpu_s();
+    const int64_t c0 = thread_cpu_ns();
     const auto t0 = std::chrono::steady_clock::now();
     const bool ok = sim.tick();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    cpu += thread_cpu_s() - c0;
+    cpu += (thread_cpu_ns() - c0) * 1e-9;
     state.SetIterationTime(wall);
     tick_s.push_back(wall);
     if (!ok) { state.SkipWithError("tick faulted"); break; }

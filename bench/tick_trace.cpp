@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <vector>
 
 #include "bench/bench_modes.h"
@@ -17,15 +16,10 @@
 #include "engine/realtime/scripted_run.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/scene.h"
+#include "engine/util/thread_cpu_time.h"
 
 namespace ps::bench {
 namespace {
-
-int64_t thread_cpu_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
-}
 
 // CPU time per pipeline stage, summed until reset
 class StageCpu final : public StageProbe {

@@ -72,16 +72,6 @@ double estimate_stable_dt(const Model& m, TetPass pass) {
   return lambda > 0.0 ? damped_stable_step(std::sqrt(lambda), m.stiffness_damping) : std::numeric_limits<double>::infinity();
 }
 
-// Selective mass scaling (a standard device of explicit dynamics): the particles whose
-// stiffness-to-mass ratio sets the stable substep get more inertial mass, so that the file's
-// substep h = dt / substeps is at most `margin` of the new limit. Gravity keeps acting on the
-// physical mass (forces.cpp reads Model::mass); the implicit damping v /= (1 + c h) is
-// proportional to the inertial mass, so each scaled particle's damping rate is divided by the
-// same factor and its damping force c m v is unchanged. Which particles: a per-particle stiffness
-// proxy d_p (k_e of its own attractor plus the shares of the attractors it enters, w^2 k_e, and,
-// for strain clusters, (2 mu V + lambda V) |g|^2 + k_r) gives m_p' = max(m_p, A d_p h^2 / 4); the
-// amplification A starts at 2 and grows until the power-iteration estimate of the whole scene
-// (any force stage, estimate_stable_dt) admits h. Deterministic; compile time only.
 namespace {
 // Model::added_inertia and largest_inertia_factor from the inertial masses against the physical
 // ones: whatever added them (the substep's scaling, the multi-rate tick's, or both).
@@ -98,6 +88,16 @@ void tally_added_inertia(Model& m) {
 }
 }  // namespace
 
+// Selective mass scaling (a standard device of explicit dynamics): the particles whose
+// stiffness-to-mass ratio sets the stable substep get more inertial mass, so that the file's
+// substep h = dt / substeps is at most `margin` of the new limit. Gravity keeps acting on the
+// physical mass (forces.cpp reads Model::mass); the implicit damping v /= (1 + c h) is
+// proportional to the inertial mass, so each scaled particle's damping rate is divided by the
+// same factor and its damping force c m v is unchanged. Which particles: a per-particle stiffness
+// proxy d_p (k_e of its own attractor plus the shares of the attractors it enters, w^2 k_e, and,
+// for strain clusters, (2 mu V + lambda V) |g|^2 + k_r) gives m_p' = max(m_p, A d_p h^2 / 4); the
+// amplification A starts at 2 and grows until the power-iteration estimate of the whole scene
+// (any force stage, estimate_stable_dt) admits h. Deterministic; compile time only.
 void scale_inertia_to_substep(Model& m, double margin) {
   const int n = m.particle_count();
   const double h = m.dt / m.substeps;

@@ -349,8 +349,9 @@ TEST(Needle, FrictionZonesHoldEveryParticleWithinTheRadiusOfTheirNode) {
   const Vec3 T = s.tool->readout(0).tip, d = s.tool->readout(0).direction;
   s.tool->forces(m, state, m.dt / m.substeps);  // zones from `state` (the needle moves after them)
   const double Rf = 4e-3, sp = 2e-3;
+  const int nodes = 100 / 2 + 1;  // length_mm / node_spacing_mm + 1
   int nodes_with_tissue = 0, members = 0;
-  for (int j = 0; j < 51; ++j) {
+  for (int j = 0; j < nodes; ++j) {
     std::vector<std::pair<double, int>> want;  // (distance, particle): every node tested
     for (int p = 0; p < m.particle_count(); ++p) {
       if (m.inv_mass[p] == 0.0 || (state.x[p] - T).dot(d) >= 0.0) continue;
