@@ -144,133 +144,210 @@ inline void hinge_force(const ShellElements& sh, const Vec3* x, int h, Vec3* f) 
   for (int i = 0; i < 4; ++i) f[v[i]] -= c * g[i];
 }
 
-// Four lanes of the scalar passes' arithmetic (GCC vector extensions, as the tet element pass):
-// each lane does the scalar operations in the scalar order (Eigen's 3-vector dot is
+// Four or eight lanes of the scalar passes' arithmetic (GCC vector extensions, as the tet element
+// pass): each lane does the scalar operations in the scalar order (Eigen's 3-vector dot is
 // (x0 y0 + x1 y1) + x2 y2, its cross the textbook one; no FMA anywhere, -ffp-contract=off), and
-// the forces go to the particles lane by lane in element order, so both give the same bits
-// (tests/engine/step/shell_elastic_test.cpp). Square roots lane by lane (std::sqrt, exact).
+// the forces go to the particles lane by lane in element order, so every width gives the scalar
+// pass's bits (tests/engine/step/shell_elastic_test.cpp). Square roots lane by lane (std::sqrt,
+// exact; one vsqrtpd without errno, engine/CMakeLists.txt). Eight lanes (one AVX-512 register)
+// where the CPU has them, as the tet element pass (tet_element_forces8_available): half the
+// arithmetic instructions; the gathers and the scatter stay lane by lane.
 // The helpers below are always inlined into the passes (whose clones have AVX), as is
 // atan_series: their by-value vector returns never cross a call, so GCC's note on the non-AVX
 // calling convention (-Wpsabi, off for this file at its top) is moot.
 #define PS_LANES inline __attribute__((always_inline))
-typedef double D4 __attribute__((vector_size(32)));
-typedef long long L4 __attribute__((vector_size(32)));
+// L doubles per vector, and the comparison mask of as many lanes (GCC ignores a dependent vector_size)
+template <int L> struct ShellLane;
+template <> struct ShellLane<4> {
+  typedef double D __attribute__((vector_size(32)));
+  typedef long long M __attribute__((vector_size(32)));
+};
+template <> struct ShellLane<8> {
+  typedef double D __attribute__((vector_size(64)));
+  typedef long long M __attribute__((vector_size(64)));
+};
 
-struct V3 { D4 c[3]; };
-PS_LANES V3 sub(const V3& a, const V3& b) { return {{a.c[0] - b.c[0], a.c[1] - b.c[1], a.c[2] - b.c[2]}}; }
-PS_LANES D4 dot(const V3& a, const V3& b) { return (a.c[0] * b.c[0] + a.c[1] * b.c[1]) + a.c[2] * b.c[2]; }
-PS_LANES V3 cross(const V3& a, const V3& b) {
+template <class D> struct V3 { D c[3]; };
+template <class D> PS_LANES V3<D> sub(const V3<D>& a, const V3<D>& b) { return {{a.c[0] - b.c[0], a.c[1] - b.c[1], a.c[2] - b.c[2]}}; }
+template <class D> PS_LANES D dot(const V3<D>& a, const V3<D>& b) { return (a.c[0] * b.c[0] + a.c[1] * b.c[1]) + a.c[2] * b.c[2]; }
+template <class D> PS_LANES V3<D> cross(const V3<D>& a, const V3<D>& b) {
   return {{a.c[1] * b.c[2] - a.c[2] * b.c[1], a.c[2] * b.c[0] - a.c[0] * b.c[2], a.c[0] * b.c[1] - a.c[1] * b.c[0]}};
 }
-PS_LANES D4 sqrt4(D4 v) { return D4{std::sqrt(v[0]), std::sqrt(v[1]), std::sqrt(v[2]), std::sqrt(v[3])}; }
-PS_LANES bool all4(L4 m) { return m[0] && m[1] && m[2] && m[3]; }
 
-// vertex i of lanes l = 0..3, whose particle indices are idx[stride l + i]
-PS_LANES V3 gather(const Vec3* x, const int* idx, int stride, int i) {
-  const double* p0 = x[idx[i]].data();
-  const double* p1 = x[idx[stride + i]].data();
-  const double* p2 = x[idx[2 * stride + i]].data();
-  const double* p3 = x[idx[3 * stride + i]].data();
-  return {{D4{p0[0], p1[0], p2[0], p3[0]}, D4{p0[1], p1[1], p2[1], p3[1]}, D4{p0[2], p1[2], p2[2], p3[2]}}};
+// {v(0), ..., v(L - 1)} in one expression (assembled in registers, as tet_elastic.cpp's lanes_of)
+template <int L, class Fn>
+PS_LANES typename ShellLane<L>::D lanes(Fn v) {
+  typedef typename ShellLane<L>::D D;
+  if constexpr (L == 4) return D{v(0), v(1), v(2), v(3)};
+  else return D{v(0), v(1), v(2), v(3), v(4), v(5), v(6), v(7)};
+}
+template <int L> PS_LANES typename ShellLane<L>::D sqrt_lanes(const typename ShellLane<L>::D& v) {
+  return lanes<L>([&](int l) { return std::sqrt(v[l]); });
+}
+template <int L> PS_LANES bool all_lanes(const typename ShellLane<L>::M& m) {
+  bool all = true;
+  for (int l = 0; l < L; ++l) all = all && m[l];
+  return all;
+}
+
+// vertex i of lanes l = 0..L-1, whose particle indices are idx[stride l + i]
+template <int L>
+PS_LANES V3<typename ShellLane<L>::D> gather(const Vec3* x, const int* idx, int stride, int i) {
+  V3<typename ShellLane<L>::D> out;
+  for (int r = 0; r < 3; ++r) out.c[r] = lanes<L>([&](int l) { return x[idx[stride * l + i]][r]; });
+  return out;
+}
+
+// triangles [t, t + L): when no lane's in-plane C is collapsed, L wide; else (rare) the scalar pass
+template <int L>
+PS_LANES void membrane_block(const ShellElements& sh, const Vec3* x, int t, Vec3* f) {
+  typedef typename ShellLane<L>::D D;
+  const int* v = &sh.tri[3 * t];
+  const double* Bp = &sh.bm[4 * t];
+  D B[4];
+  for (int i = 0; i < 4; ++i) B[i] = lanes<L>([&](int l) { return Bp[4 * l + i]; });
+  const V3<D> x0 = gather<L>(x, v, 3, 0);
+  const V3<D> d1 = sub(gather<L>(x, v, 3, 1), x0), d2 = sub(gather<L>(x, v, 3, 2), x0);
+  V3<D> a, b;
+  for (int r = 0; r < 3; ++r) {
+    a.c[r] = d1.c[r] * B[0] + d2.c[r] * B[2];
+    b.c[r] = d1.c[r] * B[1] + d2.c[r] * B[3];
+  }
+  const D c00 = dot(a, a), c01 = dot(a, b), c11 = dot(b, b);
+  const D det = c00 * c11 - c01 * c01;
+  if (!all_lanes<L>(det > 1e-12)) {
+    for (int l = 0; l < L; ++l) membrane_force(sh, x, t + l, f);
+    return;
+  }
+  const D mu = lanes<L>([&](int l) { return sh.mu[t + l]; });
+  const D lam = lanes<L>([&](int l) { return sh.lambda[t + l]; });
+  const D at = lanes<L>([&](int l) { return sh.area_t[t + l]; });
+  const D sq = sqrt_lanes<L>(det), tau = sqrt_lanes<L>(c00 + c11 + 2.0 * sq);
+  const D S00 = (c00 + sq) / tau, S01 = c01 / tau, S11 = (c11 + sq) / tau;
+  const D detS = S00 * S11 - S01 * S01;
+  const D i00 = S11 / detS, i01 = -S01 / detS, i11 = S00 / detS;
+  const D trm = S00 + S11 - 2.0;
+  const D g00 = 2.0 * mu * (S00 - 1.0) + lam * trm, g01 = 2.0 * mu * S01, g11 = 2.0 * mu * (S11 - 1.0) + lam * trm;
+  V3<D> g1, g2;
+  for (int r = 0; r < 3; ++r) {
+    const D r0 = a.c[r] * i00 + b.c[r] * i01, r1 = a.c[r] * i01 + b.c[r] * i11;  // R = F S^-1
+    const D pa = at * (r0 * g00 + r1 * g01), pb = at * (r0 * g01 + r1 * g11);
+    g1.c[r] = pa * B[0] + pb * B[1];
+    g2.c[r] = pa * B[2] + pb * B[3];
+  }
+  for (int l = 0; l < L; ++l) {
+    const int* w = v + 3 * l;
+    double* f0 = f[w[0]].data();
+    double* f1 = f[w[1]].data();
+    double* f2 = f[w[2]].data();
+    for (int r = 0; r < 3; ++r) f1[r] -= g1.c[r][l];
+    for (int r = 0; r < 3; ++r) f2[r] -= g2.c[r][l];
+    for (int r = 0; r < 3; ++r) f0[r] += g1.c[r][l] + g2.c[r][l];
+  }
+}
+
+// hinges [h, h + L); a lane whose bend is outside atan2_small's range takes std::atan2 for it, as
+// the scalar pass does
+template <int L>
+PS_LANES void hinge_block(const ShellElements& sh, const Vec3* x, int h, Vec3* f) {
+  typedef typename ShellLane<L>::D D;
+  const int* v = &sh.hinge[4 * h];
+  const V3<D> x0 = gather<L>(x, v, 4, 0), x1 = gather<L>(x, v, 4, 1), x2 = gather<L>(x, v, 4, 2), x3 = gather<L>(x, v, 4, 3);
+  // hinge_bend's operations
+  const V3<D> e = sub(x1, x0);
+  const V3<D> n1 = cross(e, sub(x2, x0));
+  const V3<D> n2 = cross(sub(x0, x1), sub(x3, x1));
+  const D le2 = dot(e, e), le = sqrt_lanes<L>(le2), inv_le2 = 1.0 / le2;
+  const D ys = dot(cross(n1, n2), e), xs = dot(n1, n2) * le;
+  const D s2 = -le / dot(n1, n1), s3 = -le / dot(n2, n2);
+  const D a1 = dot(sub(x2, x0), e) * inv_le2, a2 = dot(sub(x3, x0), e) * inv_le2;
+  const double* cs = &sh.rest_cs[2 * h];
+  const D cos0 = lanes<L>([&](int l) { return cs[2 * l]; }), sin0 = lanes<L>([&](int l) { return cs[2 * l + 1]; });
+  const D sy = ys * cos0 - xs * sin0, cx = xs * cos0 + ys * sin0;
+  // atan2_small in L lanes
+  D bend = atan_series(sy / cx);
+  for (int l = 0; l < L; ++l)
+    if (!atan_series_holds(sy[l], cx[l])) bend[l] = std::atan2(sy[l], cx[l]);
+  const D c = lanes<L>([&](int l) { return sh.k_hinge[h + l]; }) * bend;  // dE/dtheta [N m]
+  V3<D> g[4];
+  for (int r = 0; r < 3; ++r) {
+    const D u2 = s2 * n1.c[r], u3 = s3 * n2.c[r];
+    g[0].c[r] = -(1.0 - a1) * u2 - (1.0 - a2) * u3;
+    g[1].c[r] = -a1 * u2 - a2 * u3;
+    g[2].c[r] = u2;
+    g[3].c[r] = u3;
+  }
+  for (int l = 0; l < L; ++l)
+    for (int i = 0; i < 4; ++i) {
+      double* fi = f[v[4 * l + i]].data();
+      for (int r = 0; r < 3; ++r) fi[r] -= c[l] * g[i].c[r][l];
+    }
+}
+
+// [begin, end) in blocks of L (L = 8: then of four), the rest one at a time
+template <int L>
+PS_LANES void membrane_range(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
+  int t = begin;
+  if constexpr (L == 8)
+    for (; t + 8 <= end; t += 8) membrane_block<8>(sh, x, t, f);
+  for (; t + 4 <= end; t += 4) membrane_block<4>(sh, x, t, f);
+  for (; t < end; ++t) membrane_force(sh, x, t, f);
+}
+template <int L>
+PS_LANES void hinge_range(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
+  int h = begin;
+  if constexpr (L == 8)
+    for (; h + 8 <= end; h += 8) hinge_block<8>(sh, x, h, f);
+  for (; h + 4 <= end; h += 4) hinge_block<4>(sh, x, h, f);
+  for (; h < end; ++h) hinge_force(sh, x, h, f);
 }
 
 #undef PS_LANES
 
 }  // namespace
 
-// Membranes [begin, end) into f: blocks of four triangles whose in-plane C is not collapsed in
-// any lane run 4-wide (a block with a collapsed one, rare, runs the scalar pass).
+// four lanes: one AVX register (AVX-512's narrow form in its clone), two SSE2 ones in the baseline
 PS_TARGET_CLONES("arch=x86-64-v4", "avx", "default")
+void shell_membrane_forces4(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
+  membrane_range<4>(sh, x, begin, end, f);
+}
+PS_TARGET_CLONES("arch=x86-64-v4", "avx", "default")
+void shell_hinge_forces4(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
+  hinge_range<4>(sh, x, begin, end, f);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(PROSTATESIM_NO_MULTIVERSION)
+// eight lanes: one AVX-512 register (x86-64-v4), called only where tet_element_forces8_available()
+__attribute__((target("arch=x86-64-v4")))
+void shell_membrane_forces8(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
+  membrane_range<8>(sh, x, begin, end, f);
+}
+__attribute__((target("arch=x86-64-v4")))
+void shell_hinge_forces8(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
+  hinge_range<8>(sh, x, begin, end, f);
+}
+#else
+// no AVX-512 build (sanitizers, other compilers): four lanes, the same bits
+void shell_membrane_forces8(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
+  shell_membrane_forces4(sh, x, begin, end, f);
+}
+void shell_hinge_forces8(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
+  shell_hinge_forces4(sh, x, begin, end, f);
+}
+#endif
+
+// Membranes [begin, end) into f: blocks of eight (AVX-512) or four triangles, a block with a
+// collapsed triangle (rare) by the scalar pass; the same bits at every width.
 void add_shell_membrane_forces(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
-  int t = begin;
-  for (; t + 4 <= end; t += 4) {
-    const int* v = &sh.tri[3 * t];
-    const double* Bp = &sh.bm[4 * t];
-    D4 B[4];
-    for (int i = 0; i < 4; ++i) B[i] = D4{Bp[i], Bp[4 + i], Bp[8 + i], Bp[12 + i]};
-    const V3 x0 = gather(x, v, 3, 0);
-    const V3 d1 = sub(gather(x, v, 3, 1), x0), d2 = sub(gather(x, v, 3, 2), x0);
-    V3 a, b;
-    for (int r = 0; r < 3; ++r) {
-      a.c[r] = d1.c[r] * B[0] + d2.c[r] * B[2];
-      b.c[r] = d1.c[r] * B[1] + d2.c[r] * B[3];
-    }
-    const D4 c00 = dot(a, a), c01 = dot(a, b), c11 = dot(b, b);
-    const D4 det = c00 * c11 - c01 * c01;
-    if (!all4(det > 1e-12)) {
-      for (int l = 0; l < 4; ++l) membrane_force(sh, x, t + l, f);
-      continue;
-    }
-    const D4 mu = D4{sh.mu[t], sh.mu[t + 1], sh.mu[t + 2], sh.mu[t + 3]};
-    const D4 lam = D4{sh.lambda[t], sh.lambda[t + 1], sh.lambda[t + 2], sh.lambda[t + 3]};
-    const D4 at = D4{sh.area_t[t], sh.area_t[t + 1], sh.area_t[t + 2], sh.area_t[t + 3]};
-    const D4 sq = sqrt4(det), tau = sqrt4(c00 + c11 + 2.0 * sq);
-    const D4 S00 = (c00 + sq) / tau, S01 = c01 / tau, S11 = (c11 + sq) / tau;
-    const D4 detS = S00 * S11 - S01 * S01;
-    const D4 i00 = S11 / detS, i01 = -S01 / detS, i11 = S00 / detS;
-    const D4 trm = S00 + S11 - 2.0;
-    const D4 g00 = 2.0 * mu * (S00 - 1.0) + lam * trm, g01 = 2.0 * mu * S01, g11 = 2.0 * mu * (S11 - 1.0) + lam * trm;
-    V3 g1, g2;
-    for (int r = 0; r < 3; ++r) {
-      const D4 r0 = a.c[r] * i00 + b.c[r] * i01, r1 = a.c[r] * i01 + b.c[r] * i11;  // R = F S^-1
-      const D4 pa = at * (r0 * g00 + r1 * g01), pb = at * (r0 * g01 + r1 * g11);
-      g1.c[r] = pa * B[0] + pb * B[1];
-      g2.c[r] = pa * B[2] + pb * B[3];
-    }
-    for (int l = 0; l < 4; ++l) {
-      const int* w = v + 3 * l;
-      double* f0 = f[w[0]].data();
-      double* f1 = f[w[1]].data();
-      double* f2 = f[w[2]].data();
-      for (int r = 0; r < 3; ++r) f1[r] -= g1.c[r][l];
-      for (int r = 0; r < 3; ++r) f2[r] -= g2.c[r][l];
-      for (int r = 0; r < 3; ++r) f0[r] += g1.c[r][l] + g2.c[r][l];
-    }
-  }
-  for (; t < end; ++t) membrane_force(sh, x, t, f);
+  if (tet_element_forces8_available()) shell_membrane_forces8(sh, x, begin, end, f);
+  else shell_membrane_forces4(sh, x, begin, end, f);
 }
 
-// Hinges [begin, end) into f, four at a time; a lane whose bend is outside atan2_small's range
-// takes std::atan2 for it, as the scalar pass does.
-PS_TARGET_CLONES("arch=x86-64-v4", "avx", "default")
+// Hinges [begin, end) into f, eight (AVX-512) or four at a time; the same bits at every width.
 void add_shell_hinge_forces(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
-  int h = begin;
-  for (; h + 4 <= end; h += 4) {
-    const int* v = &sh.hinge[4 * h];
-    const V3 x0 = gather(x, v, 4, 0), x1 = gather(x, v, 4, 1), x2 = gather(x, v, 4, 2), x3 = gather(x, v, 4, 3);
-    // hinge_bend's operations
-    const V3 e = sub(x1, x0);
-    const V3 n1 = cross(e, sub(x2, x0));
-    const V3 n2 = cross(sub(x0, x1), sub(x3, x1));
-    const D4 le2 = dot(e, e), le = sqrt4(le2), inv_le2 = 1.0 / le2;
-    const D4 ys = dot(cross(n1, n2), e), xs = dot(n1, n2) * le;
-    const D4 s2 = -le / dot(n1, n1), s3 = -le / dot(n2, n2);
-    const D4 a1 = dot(sub(x2, x0), e) * inv_le2, a2 = dot(sub(x3, x0), e) * inv_le2;
-    const double* cs = &sh.rest_cs[2 * h];
-    const D4 cos0 = D4{cs[0], cs[2], cs[4], cs[6]}, sin0 = D4{cs[1], cs[3], cs[5], cs[7]};
-    const D4 sy = ys * cos0 - xs * sin0, cx = xs * cos0 + ys * sin0;
-    // atan2_small in four lanes
-    D4 bend = atan_series(sy / cx);
-    for (int l = 0; l < 4; ++l)
-      if (!atan_series_holds(sy[l], cx[l])) bend[l] = std::atan2(sy[l], cx[l]);
-    const D4 c = D4{sh.k_hinge[h], sh.k_hinge[h + 1], sh.k_hinge[h + 2], sh.k_hinge[h + 3]} * bend;  // dE/dtheta [N m]
-    V3 g[4];
-    for (int r = 0; r < 3; ++r) {
-      const D4 u2 = s2 * n1.c[r], u3 = s3 * n2.c[r];
-      g[0].c[r] = -(1.0 - a1) * u2 - (1.0 - a2) * u3;
-      g[1].c[r] = -a1 * u2 - a2 * u3;
-      g[2].c[r] = u2;
-      g[3].c[r] = u3;
-    }
-    for (int l = 0; l < 4; ++l)
-      for (int i = 0; i < 4; ++i) {
-        double* fi = f[v[4 * l + i]].data();
-        for (int r = 0; r < 3; ++r) fi[r] -= c[l] * g[i].c[r][l];
-      }
-  }
-  for (; h < end; ++h) hinge_force(sh, x, h, f);
+  if (tet_element_forces8_available()) shell_hinge_forces8(sh, x, begin, end, f);
+  else shell_hinge_forces4(sh, x, begin, end, f);
 }
-
 void add_shell_elastic_forces(const Model& m, State& s) {
   const ShellElements& sh = m.shells;
   add_shell_membrane_forces(sh, s.x.data(), 0, sh.triangle_count(), s.f.data());

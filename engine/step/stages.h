@@ -38,9 +38,15 @@ double tet_elastic_energy(const Model& m, const State& s);
 // "Shell model"): co-rotational constant-strain triangles (plane stress) and dihedral hinges
 void add_shell_elastic_forces(const Model& m, State& s);
 // shell_elastic.cpp: the same per part, for triangles / hinges [begin, end), added to f (blocks of
-// four run 4-wide, the rest scalar; both give the same bits)
+// eight where the CPU has AVX-512, else four, run as vectors, the rest scalar; all give the same bits)
 void add_shell_membrane_forces(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f);
 void add_shell_hinge_forces(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f);
+// their two vector widths (the functions above pick one; tests compare both with the scalar pass):
+// four per vector (any x86-64), eight (only where tet_element_forces8_available())
+void shell_membrane_forces4(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f);
+void shell_membrane_forces8(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f);
+void shell_hinge_forces4(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f);
+void shell_hinge_forces8(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f);
 // shell_elastic.cpp: the energy whose negative gradient that force is [J] (tests, diagnostics)
 double shell_elastic_energy(const Model& m, const State& s);
 // active.cpp: fibre contraction of active components scaled by State::activation

@@ -32,9 +32,10 @@ std::vector<Vec3> shell_forces(const Model& m, State& s) {
   return s.f;
 }
 
-TEST(ShellElasticForce, FourWidePassesEqualTheScalarOnesBitForBit) {
-  // blocks of four triangles / hinges run 4-wide, single ones the scalar code: every range gives
-  // the per-element sums bit for bit. Large strains and bends (both atan2 branches), and one
+TEST(ShellElasticForce, FourAndEightWidePassesEqualTheScalarOnesBitForBit) {
+  // blocks of four (or eight, on AVX-512) triangles / hinges run as vectors, single ones the
+  // scalar code: every range gives the per-element sums bit for bit, at either width and through
+  // the dispatching entry points. Large strains and bends (both atan2 branches), and one
   // collapsed triangle (its block takes the scalar path).
   auto m = test::compile_text(shell_cylinder_yaml(12, 40, 5));
   const ShellElements& sh = m->shells;
@@ -55,10 +56,16 @@ TEST(ShellElasticForce, FourWidePassesEqualTheScalarOnesBitForBit) {
     wide_bends += std::abs(d) > 0.245;  // beyond atan2_small's 14 degrees: std::atan2
   }
   EXPECT_GT(wide_bends, 0);
-  for (const auto& [begin, end] : {std::pair{0, 1 << 30}, {1, 1 << 30}, {3, 11}}) {
+  typedef void (*Pass)(const ShellElements&, const Vec3*, int, int, Vec3*);
+  struct Width { const char* name; Pass membranes, hinges; };
+  std::vector<Width> widths = {{"dispatched", add_shell_membrane_forces, add_shell_hinge_forces},
+                               {"four", shell_membrane_forces4, shell_hinge_forces4}};
+  if (tet_element_forces8_available()) widths.push_back({"eight", shell_membrane_forces8, shell_hinge_forces8});
+  for (const Width& w : widths)
+  for (const auto& [begin, end] : {std::pair{0, 1 << 30}, {1, 1 << 30}, {3, 11}, {2, 19}}) {
     std::vector<Vec3> wide(n, Vec3::Zero()), one(n, Vec3::Zero());
-    add_shell_membrane_forces(sh, s.x.data(), begin, std::min(end, nt), wide.data());
-    add_shell_hinge_forces(sh, s.x.data(), begin, std::min(end, nh), wide.data());
+    w.membranes(sh, s.x.data(), begin, std::min(end, nt), wide.data());
+    w.hinges(sh, s.x.data(), begin, std::min(end, nh), wide.data());
     for (int t = begin; t < std::min(end, nt); ++t) add_shell_membrane_forces(sh, s.x.data(), t, t + 1, one.data());
     for (int h = begin; h < std::min(end, nh); ++h) add_shell_hinge_forces(sh, s.x.data(), h, h + 1, one.data());
     int differing = 0;
@@ -68,7 +75,7 @@ TEST(ShellElasticForce, FourWidePassesEqualTheScalarOnesBitForBit) {
       EXPECT_TRUE(one[q].allFinite()) << "particle " << q;
       for (int a = 0; a < 3; ++a) differing += wide[q][a] != one[q][a];
     }
-    EXPECT_EQ(differing, 0) << "range [" << begin << ", " << end << ")";
+    EXPECT_EQ(differing, 0) << w.name << " lanes, range [" << begin << ", " << end << ")";
     EXPECT_GT(largest, 0.0);
   }
 }
