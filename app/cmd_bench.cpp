@@ -106,12 +106,14 @@ Realtime realtime_of(const std::string& file, const std::string& script_file, do
   r.factor = r.sim_s / wall;
   r.factor_cpu = cpu > 0 ? r.sim_s / cpu : 0.0;
   if (!us.empty()) {
-    std::sort(us.begin(), us.end());
-    r.p99_us = us[std::min(us.size() - 1, static_cast<size_t>(0.99 * us.size()))];
-    r.median_us = us[us.size() / 2];
-    std::sort(cpu_us.begin(), cpu_us.end());
-    r.p99_cpu_us = cpu_us[std::min(cpu_us.size() - 1, static_cast<size_t>(0.99 * cpu_us.size()))];
-    r.median_cpu_us = cpu_us[cpu_us.size() / 2];
+    // p99 and median of a sample, sorted in place
+    auto p99_median = [](std::vector<double>& v, double& p99, double& median) {
+      std::sort(v.begin(), v.end());
+      p99 = v[std::min(v.size() - 1, static_cast<size_t>(0.99 * v.size()))];
+      median = v[v.size() / 2];
+    };
+    p99_median(us, r.p99_us, r.median_us);
+    p99_median(cpu_us, r.p99_cpu_us, r.median_cpu_us);
   }
   return r;
 }

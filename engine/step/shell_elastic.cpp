@@ -284,22 +284,24 @@ PS_LANES void hinge_block(const ShellElements& sh, const Vec3* x, int h, Vec3* f
     }
 }
 
-// [begin, end) in blocks of L (L = 8: then of four), the rest one at a time
-template <int L>
-PS_LANES void membrane_range(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
-  int t = begin;
+// The two kinds of element as the range below runs them: L at a time, or one (the scalar pass)
+struct Membranes {
+  template <int L> static PS_LANES void block(const ShellElements& sh, const Vec3* x, int t, Vec3* f) { membrane_block<L>(sh, x, t, f); }
+  static PS_LANES void one(const ShellElements& sh, const Vec3* x, int t, Vec3* f) { membrane_force(sh, x, t, f); }
+};
+struct Hinges {
+  template <int L> static PS_LANES void block(const ShellElements& sh, const Vec3* x, int h, Vec3* f) { hinge_block<L>(sh, x, h, f); }
+  static PS_LANES void one(const ShellElements& sh, const Vec3* x, int h, Vec3* f) { hinge_force(sh, x, h, f); }
+};
+
+// elements [begin, end) of one Kind in blocks of L (L = 8: then of four), the rest one at a time
+template <int L, class Kind>
+PS_LANES void lane_range(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
+  int i = begin;
   if constexpr (L == 8)
-    for (; t + 8 <= end; t += 8) membrane_block<8>(sh, x, t, f);
-  for (; t + 4 <= end; t += 4) membrane_block<4>(sh, x, t, f);
-  for (; t < end; ++t) membrane_force(sh, x, t, f);
-}
-template <int L>
-PS_LANES void hinge_range(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
-  int h = begin;
-  if constexpr (L == 8)
-    for (; h + 8 <= end; h += 8) hinge_block<8>(sh, x, h, f);
-  for (; h + 4 <= end; h += 4) hinge_block<4>(sh, x, h, f);
-  for (; h < end; ++h) hinge_force(sh, x, h, f);
+    for (; i + 8 <= end; i += 8) Kind::template block<8>(sh, x, i, f);
+  for (; i + 4 <= end; i += 4) Kind::template block<4>(sh, x, i, f);
+  for (; i < end; ++i) Kind::one(sh, x, i, f);
 }
 
 #undef PS_LANES
@@ -309,22 +311,22 @@ PS_LANES void hinge_range(const ShellElements& sh, const Vec3* x, int begin, int
 // four lanes: one AVX register (AVX-512's narrow form in its clone), two SSE2 ones in the baseline
 PS_TARGET_CLONES("arch=x86-64-v4", "avx", "default")
 void shell_membrane_forces4(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
-  membrane_range<4>(sh, x, begin, end, f);
+  lane_range<4, Membranes>(sh, x, begin, end, f);
 }
 PS_TARGET_CLONES("arch=x86-64-v4", "avx", "default")
 void shell_hinge_forces4(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
-  hinge_range<4>(sh, x, begin, end, f);
+  lane_range<4, Hinges>(sh, x, begin, end, f);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(PROSTATESIM_NO_MULTIVERSION)
 // eight lanes: one AVX-512 register (x86-64-v4), called only where tet_element_forces8_available()
 __attribute__((target("arch=x86-64-v4")))
 void shell_membrane_forces8(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
-  membrane_range<8>(sh, x, begin, end, f);
+  lane_range<8, Membranes>(sh, x, begin, end, f);
 }
 __attribute__((target("arch=x86-64-v4")))
 void shell_hinge_forces8(const ShellElements& sh, const Vec3* x, int begin, int end, Vec3* f) {
-  hinge_range<8>(sh, x, begin, end, f);
+  lane_range<8, Hinges>(sh, x, begin, end, f);
 }
 #else
 // no AVX-512 build (sanitizers, other compilers): four lanes, the same bits
