@@ -48,7 +48,9 @@
 //  * cutting (eq. 5): C = sum k_c^i/d_i / sum 1/d_i over the cutting zone of entered components,
 //    particle i receives k_c^i (1/d_i) / sum 1/d_j along d. Applied only while the needle moves
 //    forward (ramped in over cut_velocity, on the axial speed low-passed over kCutFilterTime):
-//    no cutting while retracting or at rest. When the tip
+//    no cutting while retracting or at rest. The ramp is solved with the needle's new velocity
+//    (move_needle, implicit like the coupling): on it the gate is a damper of k_c / cut_velocity,
+//    too stiff for an explicit step of the light needle. When the tip
 //    sits between particle layers and the cutting zone is momentarily empty, the tip node's
 //    friction-zone particles take the cutting force, so the force does not flicker with the
 //    lattice. Distances below the needle radius count as the needle radius.

@@ -28,8 +28,7 @@ Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s
   // vibration kept needle and tissue in a chatter, Needle.HeldStillInsideTissueEverythingComesToRest)
   constexpr double kDampedApproach = 0.05;
   // --- puncture: the tip pushes the entry face it has reached until the eq. 5 threshold breaks it
-  bool breached = false;
-  int breached_component = -1;
+  nd.breached_now = -1;
   if (nd.press_n > 0) {
     double Cp = 0.0;
     for (int i = 0; i < nd.press_n; ++i) Cp += nd.press_w[i] * puncture_kc[m.component_of[nd.press_idx[i]]];
@@ -61,8 +60,7 @@ Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s
     }
     if (P >= Cp) {
       P = Cp;
-      breached = true;
-      breached_component = nd.press_component;
+      nd.breached_now = nd.press_component;
       nd.entered[nd.press_component] = 1;
       if (mf.sheet[nd.press_component]) {
         // a wall is torn where the tip went through: the faces around the crossed face
@@ -81,13 +79,18 @@ Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s
     ro.press_force = P;
   }
 
-  // --- cutting (eq. 5): only while the tip moves forward inside tissue. The gate uses the axial
-  // speed low-passed over a few milliseconds: gating on the instantaneous speed acts as a stiff
-  // explicit damper on the needle (0.5 N over 1 mm/s = 500 N s/m on 10 g) and made the needle
-  // and the tissue ahead of it chatter in a two-substep cycle when the needle was held still.
-  const double ramp = std::clamp(nd.v_cut / nd.spec.cut_velocity, 0.0, 1.0);
+  // --- cutting (eq. 5): only while the tip moves forward inside tissue. The gate is the axial
+  // speed low-passed over a few milliseconds, and it is solved together with the needle's new
+  // velocity (move_needle), not read from the last substep: below cut_velocity the gate is a
+  // damper of k_c / cut_velocity (1.5 N over 1 mm/s = 1500 N s/m on a 10 g needle), far beyond
+  // what an explicit step can hold. Read explicitly (the instantaneous speed, then its low-pass)
+  // it made a needle held still inside tissue chatter in a two-substep cycle, the cutting force
+  // on and off, its tick average off by a quarter at 3 substeps per 2 ms tick. Here the zone
+  // and the force at full speed; apply_needle_cutting puts the solved part on the particles.
+  nd.cut_share_n = 0;
+  nd.cut_full = 0.0;
   const bool inside = nd.zone_n[0] > 0 || (nd.node_count > 1 && nd.zone_n[1] > 0);
-  if (ramp > 0.0 && inside) {
+  if (inside) {
     // the cutting zone, or the tip node's zone when the tip is between particle layers
     // (walls modelled as sheets are punctured, never cut: their particles in the tip node's zone
     // rub the shaft, they take no cutting force; cutting them pushed an intact wall ahead of the tip)
@@ -105,16 +108,14 @@ Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s
       const double w = idw((s.x[p] - nd.T).norm(), nd.radius);
       W += w;
       WK += w * m.k_c[p];
+      nd.cut_share_idx[nd.cut_share_n] = p;
+      nd.cut_share[nd.cut_share_n++] = w * m.k_c[p];
     }
-    const double C = WK > 0.0 ? ramp * WK / W : 0.0;  // eq. 5, ramped in with the forward speed
     if (WK > 0.0) {
-      for (int i = 0; i < n; ++i) {
-        const int p = idx[i];
-        if (!cuttable(p)) continue;
-        s.f[p] += (C * idw((s.x[p] - nd.T).norm(), nd.radius) * m.k_c[p] / WK) * d;
-      }
-      on_needle -= C * d;
-      ro.cutting_force = C;
+      nd.cut_full = WK / W;  // eq. 5
+      for (int i = 0; i < nd.cut_share_n; ++i) nd.cut_share[i] /= WK;
+    } else {
+      nd.cut_share_n = 0;
     }
   }
 
@@ -185,9 +186,19 @@ Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s
   ro.engaged_nodes = engaged;
   ro.stuck_nodes = stuck_count;
   ro.tissue_force = on_needle;
-  ro.axial_force = -on_needle.dot(d);
+  ro.axial_force = -on_needle.dot(d);  // without the cutting part until apply_needle_cutting
+  return on_needle;
+}
+
+void apply_needle_cutting(NeedleTool::Needle& nd, State& s, const Vec3& f_other, double cut, NeedleEventRing& events) {
+  const Vec3 d = nd.d;
+  NeedleReadout& ro = nd.ro;
+  for (int i = 0; i < nd.cut_share_n; ++i) s.f[nd.cut_share_idx[i]] += (cut * nd.cut_share[i]) * d;
+  ro.cutting_force = cut;
+  ro.tissue_force = f_other - cut * d;
+  ro.axial_force = -ro.tissue_force.dot(d);
   nd.peak_force = std::max(nd.peak_force, ro.axial_force);
-  if (breached) {
+  if (nd.breached_now >= 0) {
     NeedleEvent e;
     e.kind = NeedleEventKind::Puncture;
     e.needle = nd.index;
@@ -196,11 +207,10 @@ Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s
     e.depth = insertion_depth(nd);
     e.force = nd.peak_force;
     e.value = ro.press_force;   // the contact force on the wall at rupture [N]
-    e.component = breached_component;
+    e.component = nd.breached_now;
     events.push(e);
     nd.peak_force = 0.0;
   }
-  return on_needle;
 }
 
 }  // namespace ps

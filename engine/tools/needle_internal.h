@@ -74,6 +74,14 @@ struct NeedleTool::Needle {
   std::array<int, kCutCapacity> cut_idx{};
   std::array<double, kCutCapacity> cut_dist{};
   int cut_n = 0;
+  // this substep's cutting (needle_forces.cpp): the particles that take it and each one's share
+  // (sum 1), and the eq. 5 force at full speed; how much of it acts is solved with the needle's
+  // velocity (move_needle). Scratch of one substep: not saved.
+  std::array<int, kCutCapacity> cut_share_idx{};
+  std::array<double, kCutCapacity> cut_share{};
+  int cut_share_n = 0;
+  double cut_full = 0.0;                 // [N]
+  int breached_now = -1;                 // component whose surface broke this substep, -1: none
   // pressed surface: the entry face of an intact membrane the needle axis crosses behind the
   // tip, and the patch of that membrane's particles around the crossing that shares the load
   int press_n = 0;                       // particles in the patch (0: not pressing)
@@ -156,16 +164,27 @@ void prepare_needle_anchors(NeedleTool::Needle& nd, const State& s);
 void bound_needle_coupling(std::vector<std::unique_ptr<NeedleTool::Needle>>& needles, const Model& m,
                            double dt, CouplingBudget& budget);
 
-// needle_forces.cpp: Algorithm 2 per node: tissue forces, virtual elastic force, stick/slip;
-// returns the tissue reaction on the needle [N]
-// (h: the substep [s])
+// needle_forces.cpp: Algorithm 2 per node: puncture contact, virtual elastic force, stick/slip
+// onto the particles; returns their reaction on the needle [N]. The cutting zone and its full
+// eq. 5 force are prepared (cut_share, cut_full), not applied: the part that acts depends on the
+// needle's new velocity (move_needle). (h: the substep [s])
 Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s, const std::vector<double>& puncture_kc,
                                 const MembraneFaces& mf, double h, NeedleEventRing& events);
+// needle_forces.cpp: the cutting force `cut` [N] onto the prepared zone, and the substep's
+// read-out (tissue force = `f_other` + cutting, axial force, peak) and puncture event
+void apply_needle_cutting(NeedleTool::Needle& nd, State& s, const Vec3& f_other, double cut, NeedleEventRing& events);
 // needle_motion.cpp: commanded pose at time t
 void needle_command(const NeedleTool::Needle& nd, double t, Vec3& tip, Vec3& dir, Vec3& vel);
-// needle_motion.cpp: computeNeedleMovement + adjustIntensityNeedleVelocity + bone stop
+// needle_motion.cpp: computeNeedleMovement + adjustIntensityNeedleVelocity + bone stop; the
+// cutting force solved with the new velocity and applied (apply_needle_cutting). f_tissue: the
+// other tissue forces on the needle [N]
 void move_needle(NeedleTool::Needle& nd, const Model& m, State& s, const Vec3& f_tissue, double dt, const BoneContact* bone,
                  NeedleEventRing& events);
+// needle_motion.cpp: the cutting force [N] when the needle's axial speed after the substep is
+// u = u0 - beta * C (u0: its speed without cutting [m/s]; beta = h / effective mass [s/kg]) and C
+// = c_full * clamp(v_cut' / v_ramp, 0, 1) with the gate's filtered speed v_cut' = (1 - a) v_cut
+// + a u: the root of u + beta C(u) = u0, unique as C does not decrease with u
+double implicit_cutting_force(double c_full, double u0, double beta, double v_cut, double a, double v_ramp);
 // seeds.cpp / biopsy.cpp (after the step)
 void update_seeds(NeedleTool::Needle& nd, const Model& m, const State& s, NeedleEventRing& events);
 double gun_stroke(const NeedleTool::Needle& nd, double t);

@@ -2,7 +2,8 @@
 // one rigid body of mass m whose tip follows the commanded pose through a spring-damper:
 //   m dV/dt = k (T_cmd - T) + c (V_cmd - V) + F_tissue
 // The coupling is integrated implicitly (backward Euler, exact for this linear part, so a stiff
-// coupling never limits the step); the tissue reaction is explicit. Then the safety clamps:
+// coupling never limits the step); the tissue reaction is explicit, but for the cutting gate's
+// ramp, solved with the new velocity (implicit_cutting_force). Then the safety clamps:
 // coupling force at max_force, speed at max_speed. Then the bone stop: the tip may not move
 // closer to a bone surface than it is (conservative advancement with FCL distances).
 #include <algorithm>
@@ -30,6 +31,19 @@ void script_depth(const NeedleSpec& s, double t, double& depth, double& rate) {
 
 }  // namespace
 
+double implicit_cutting_force(double c_full, double u0, double beta, double v_cut, double a, double v_ramp) {
+  if (c_full <= 0.0 || a <= 0.0) return 0.0;
+  const double held = (1.0 - a) * v_cut;  // the filtered speed's part that does not depend on u
+  // C(u) = c_full clamp((held + a u) / v_ramp, 0, 1): zero for u <= u_lo, full for u >= u_hi
+  const double u_lo = -held / a, u_hi = (v_ramp - held) / a;
+  if (u0 <= u_lo) return 0.0;
+  if (u0 - beta * c_full >= u_hi) return c_full;
+  // on the ramp: u + beta c_full (held + a u) / v_ramp = u0
+  const double g = beta * c_full / v_ramp;
+  const double u = (u0 - g * held) / (1.0 + g * a);
+  return std::clamp(c_full * (held + a * u) / v_ramp, 0.0, c_full);
+}
+
 void needle_command(const NeedleTool::Needle& nd, double t, Vec3& tip, Vec3& dir, Vec3& vel) {
   if (nd.interactive) {
     // the device holds the gun body; a fired gun extends the needle by the stroke
@@ -54,15 +68,23 @@ void move_needle(NeedleTool::Needle& nd, const Model& m, State& s, const Vec3& f
   Vec3 T_cmd, d_cmd, V_cmd;
   needle_command(nd, s.time + dt, T_cmd, d_cmd, V_cmd);
   const double mass = sp.mass, k = sp.coupling_stiffness, c = sp.coupling_damping;
-  // implicit coupling: (m + dt c + dt^2 k) V' = m V + dt (F_tissue + k (T_cmd - T) + c V_cmd)
-  Vec3 V_new = (mass * nd.V + dt * (f_tissue + k * (T_cmd - nd.T) + c * V_cmd)) / (mass + dt * c + dt * dt * k);
+  // implicit coupling: (m + dt c + dt^2 k) V' = m V + dt (F_tissue - C d + k (T_cmd - T) + c V_cmd),
+  // with the cutting force C implicit too: it depends on V' through the gate's filtered speed
+  const double m_eff = mass + dt * c + dt * dt * k;
+  const Vec3 rhs = mass * nd.V + dt * (f_tissue + k * (T_cmd - nd.T) + c * V_cmd);
+  const double a = std::min(1.0, dt / kCutFilterTime);
+  const double cut = implicit_cutting_force(nd.cut_full, rhs.dot(d_cmd) / m_eff,
+                                            dt * std::max(0.0, nd.d.dot(d_cmd)) / m_eff, nd.v_cut, a, sp.cut_velocity);
+  apply_needle_cutting(nd, s, f_tissue, cut, events);
+  const Vec3 f_all = nd.ro.tissue_force;  // f_tissue - cut d
+  Vec3 V_new = (rhs - (dt * cut) * nd.d) / m_eff;
   Vec3 F_c = k * (T_cmd - (nd.T + dt * V_new)) + c * (V_cmd - V_new);
   bool clamped = false;
   double requested = F_c.norm();
   if (requested > sp.max_force) {
     // an absurd command (teleported target, runaway device): push with the limit instead
     F_c *= sp.max_force / requested;
-    V_new = nd.V + (dt / mass) * (f_tissue + F_c);
+    V_new = nd.V + (dt / mass) * (f_all + F_c);
     clamped = true;
   }
   const double speed = V_new.norm();
@@ -109,7 +131,6 @@ void move_needle(NeedleTool::Needle& nd, const Model& m, State& s, const Vec3& f
   nd.clamping = clamped;
   nd.T += step;
   nd.V = V_new;
-  const double a = std::min(1.0, dt / kCutFilterTime);
   nd.v_cut += a * (V_new.dot(d_cmd) - nd.v_cut);
   nd.d = d_cmd;
   nd.ro.coupling_force = F_c;

@@ -162,6 +162,53 @@ TEST(Needle, HeldStillInsideTissueEverythingComesToRest) {
   EXPECT_GT(s.tool->readout(0).friction_force, 0.2) << "the tissue still grips the shaft";
 }
 
+// Tick-average axial force [N] of a needle driven 12 mm into a block whose particles are all
+// fixed, then held, at `substeps` per 2 ms tick. The tissue cannot move, so what remains is the
+// needle's own dynamics: the coupling (2000 N/m) pulls the tip towards the command, the friction
+// anchors slip and let it creep forward, and the cutting gate sits on its ramp (forward speed
+// below cut_velocity), where it acts as a damper of k_c / cut_velocity on the 10 g needle.
+std::vector<double> held_needle_forces(int substeps) {
+  BlockOptions o;
+  o.spacing_mm = 6;
+  o.k_c = 1.5;      // the biopsy prostate's cutting force: the stiffest gate of the shipped scenes
+  o.k_f = 0.05;
+  o.extra_constraints = "  - fix: {component: tissue, region: {box: {min_mm: [-100, -100, -100], max_mm: [100, 100, 100]}}}\n";
+  std::string y = block_yaml(o, vertical_needle("n", 1.3, 0.9, "[[0, 0], [0.6, 12]]"));
+  const std::string from = "time: {dt_ms: 1, substeps: 1, duration_s: 1}";
+  y.replace(y.find(from), from.size(), "time: {dt_ms: 2, substeps: " + std::to_string(substeps) + ", duration_s: 1}");
+  auto s = make_needle_scene(y);
+  EXPECT_EQ(s.model->substeps, substeps);
+  std::vector<double> f;
+  for (int i = 0; i < 1000; ++i) {
+    if (!s.sim->tick()) {
+      ADD_FAILURE() << s.sim->state().fault.describe(*s.model);
+      break;
+    }
+    f.push_back(s.tool->readout(0).axial_force_tick);
+  }
+  return f;
+}
+
+TEST(Needle, HeldNeedleCreepsToRestWithoutChatterAtACoarseSubstep) {
+  // 3 substeps per 2 ms tick (0.67 ms) against 24 (0.083 ms). With the gate read from the last
+  // substep the coarse run chattered in a two-substep cycle, the cutting force on and off and
+  // the tick force alternating between 1.29 and 1.80 N for as long as the needle was held (and
+  // 0.37 N RMS from the fine run); solved with the needle's velocity it creeps as the fine run does.
+  const std::vector<double> coarse = held_needle_forces(3), fine = held_needle_forces(24);
+  ASSERT_EQ(coarse.size(), fine.size());
+  double peak = 0.0, jump = 0.0, e2 = 0.0;
+  int n = 0;
+  for (size_t k = 0; k < fine.size(); ++k) peak = std::max(peak, std::abs(fine[k]));
+  for (size_t k = 400; k < coarse.size(); ++k) {  // the hold, from 0.2 s after the script's end
+    jump = std::max(jump, std::abs(coarse[k] - coarse[k - 1]));
+    e2 += (coarse[k] - fine[k]) * (coarse[k] - fine[k]);
+    ++n;
+  }
+  ASSERT_GT(peak, 1.5);
+  EXPECT_LT(jump, 0.01 * peak) << "tick-to-tick change of the held needle's force";
+  EXPECT_LT(std::sqrt(e2 / n), 0.03 * peak) << "RMS difference from the fine substep over the hold";
+}
+
 TEST(Needle, SameInputsGiveBitIdenticalForces) {
   const std::string y = block_yaml(BlockOptions{}, vertical_needle("n", 1.3, 0.9, "[[0, 0], [0.8, 14], [0.9, 14], [1.2, 9]]"));
   std::vector<double> f[2];
