@@ -19,6 +19,7 @@
 #include <cmath>
 
 #include "engine/model/shell_elements.h"
+#include "engine/step/simd_lanes.h"
 #include "engine/step/stages.h"
 #include "engine/util/multiversion.h"
 
@@ -156,15 +157,10 @@ inline void hinge_force(const ShellElements& sh, const Vec3* x, int h, Vec3* f) 
 // atan_series: their by-value vector returns never cross a call, so GCC's note on the non-AVX
 // calling convention (-Wpsabi, off for this file at its top) is moot.
 #define PS_LANES inline __attribute__((always_inline))
-// L doubles per vector, and the comparison mask of as many lanes (GCC ignores a dependent vector_size)
-template <int L> struct ShellLane;
-template <> struct ShellLane<4> {
-  typedef double D __attribute__((vector_size(32)));
-  typedef long long M __attribute__((vector_size(32)));
-};
-template <> struct ShellLane<8> {
-  typedef double D __attribute__((vector_size(64)));
-  typedef long long M __attribute__((vector_size(64)));
+// L doubles per vector and their comparison mask (engine/step/simd_lanes.h)
+template <int L> struct ShellLane {
+  typedef typename LaneVector<L>::type D;
+  typedef typename LaneVector<L>::mask M;
 };
 
 template <class D> struct V3 { D c[3]; };
@@ -174,12 +170,12 @@ template <class D> PS_LANES V3<D> cross(const V3<D>& a, const V3<D>& b) {
   return {{a.c[1] * b.c[2] - a.c[2] * b.c[1], a.c[2] * b.c[0] - a.c[0] * b.c[2], a.c[0] * b.c[1] - a.c[1] * b.c[0]}};
 }
 
-// {v(0), ..., v(L - 1)} in one expression (assembled in registers, as tet_elastic.cpp's lanes_of)
+// {v(0), ..., v(L - 1)} (lanes_of, as a value)
 template <int L, class Fn>
 PS_LANES typename ShellLane<L>::D lanes(Fn v) {
-  typedef typename ShellLane<L>::D D;
-  if constexpr (L == 4) return D{v(0), v(1), v(2), v(3)};
-  else return D{v(0), v(1), v(2), v(3), v(4), v(5), v(6), v(7)};
+  typename ShellLane<L>::D out;
+  lanes_of<L>(out, v);
+  return out;
 }
 template <int L> PS_LANES typename ShellLane<L>::D sqrt_lanes(const typename ShellLane<L>::D& v) {
   return lanes<L>([&](int l) { return std::sqrt(v[l]); });

@@ -21,6 +21,7 @@
 #include <algorithm>
 
 #include "engine/step/stages.h"
+#include "engine/step/simd_lanes.h"
 #include "engine/step/tet_edges4.h"
 #include "engine/util/multiversion.h"
 
@@ -230,18 +231,6 @@ inline void element_forces_scalar(const TetElements& te, const Vec3* x, const do
 // instruction set: only the arithmetic is vectorised, the gathers and the scatter stay scalar.
 // packed: g, V0 and mu read as vectors from the blocked copy (TetElements::g4, blocks of four: L = 8
 // takes two blocks); k is then a multiple of 4. list: as element_forces_scalar.
-template <int L> struct LaneVector;  // L doubles per vector (GCC ignores a dependent vector_size)
-template <> struct LaneVector<4> { typedef double type __attribute__((vector_size(32))); };
-template <> struct LaneVector<8> { typedef double type __attribute__((vector_size(64))); };
-
-// out = {v(0), ..., v(L - 1)} in one expression (GCC assembles it in registers; a vector filled lane
-// by lane went through the stack and stalled on store forwarding)
-template <int L, class V, class Fn>
-__attribute__((always_inline)) inline void lanes_of(V& out, Fn v) {
-  if constexpr (L == 4) out = V{v(0), v(1), v(2), v(3)};
-  else out = V{v(0), v(1), v(2), v(3), v(4), v(5), v(6), v(7)};
-}
-
 // out = lo[0..3] (L = 4) or lo[0..3], hi[0..3] (L = 8): vector loads of four (8-byte aligned)
 template <int L, class V>
 __attribute__((always_inline)) inline void load_fours(V& out, const double* lo, const double* hi) {

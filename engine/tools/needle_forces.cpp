@@ -185,9 +185,7 @@ Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s
   }
   ro.engaged_nodes = engaged;
   ro.stuck_nodes = stuck_count;
-  ro.tissue_force = on_needle;
-  ro.axial_force = -on_needle.dot(d);  // without the cutting part until apply_needle_cutting
-  return on_needle;
+  return on_needle;  // the read-out's tissue and axial force are set with the cutting (apply_needle_cutting)
 }
 
 void apply_needle_cutting(NeedleTool::Needle& nd, State& s, const Vec3& f_other, double cut, NeedleEventRing& events) {

@@ -76,7 +76,7 @@ void move_needle(NeedleTool::Needle& nd, const Model& m, State& s, const Vec3& f
   const double cut = implicit_cutting_force(nd.cut_full, rhs.dot(d_cmd) / m_eff,
                                             dt * std::max(0.0, nd.d.dot(d_cmd)) / m_eff, nd.v_cut, a, sp.cut_velocity);
   apply_needle_cutting(nd, s, f_tissue, cut, events);
-  const Vec3 f_all = nd.ro.tissue_force;  // f_tissue - cut d
+  const Vec3 f_all = f_tissue - cut * nd.d;  // every tissue force on the needle [N]
   Vec3 V_new = (rhs - (dt * cut) * nd.d) / m_eff;
   Vec3 F_c = k * (T_cmd - (nd.T + dt * V_new)) + c * (V_cmd - V_new);
   bool clamped = false;
