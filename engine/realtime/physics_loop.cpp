@@ -61,9 +61,9 @@ PhysicsLoop::PhysicsLoop(Simulation& sim, LoopOptions opt) : opt_(opt), runner_(
     Snapshot& s = snaps_.raw(i);
     s.x.reserve(3 * sim.state().x.size());
     s.tools.reserve(sim.tools().size());
-    s.events.reserve(256);
+    s.events.reserve(kEventCapacity);
   }
-  unread_.reserve(256);
+  unread_.reserve(kEventCapacity);
 }
 
 PhysicsLoop::~PhysicsLoop() { stop(); }
@@ -157,7 +157,7 @@ void PhysicsLoop::publish() {
   Snapshot& b = snaps_.back();
   const size_t carried = unread_.size();
   b.events.assign(unread_.begin(), unread_.end());  // capacity reserved: no allocation
-  runner_.fill_snapshot(b, true);
+  runner_.fill_snapshot(b, true, false, kEventCapacity);
   unread_.insert(unread_.end(), b.events.begin() + static_cast<std::ptrdiff_t>(carried), b.events.end());
   if (unread_.size() > kMaxUnread) unread_.erase(unread_.begin(), unread_.end() - static_cast<std::ptrdiff_t>(kMaxUnread));
   const uint64_t newest = b.events.empty() ? published_seq_ : b.events.back().seq;

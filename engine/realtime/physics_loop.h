@@ -168,6 +168,9 @@ class PhysicsLoop {
   // oldest dropped beyond it). Each snapshot carries them ahead of its own, so a reader that skips
   // snapshots still meets every event, in order (publish()).
   static constexpr size_t kMaxUnread = 128;
+  // Each snapshot buffer's and unread_'s reserved event capacity: the carried kMaxUnread and at
+  // least as many new ones per publish (TickRunner::fill_snapshot holds the rest back)
+  static constexpr size_t kEventCapacity = 2 * kMaxUnread;
   std::vector<SnapshotEvent> unread_;
   uint64_t published_seq_ = 0;     // the newest event seq in the snapshot published last
   mutable std::mutex timing_mu_;   // the physics thread only try_locks it

@@ -189,11 +189,11 @@ void TickRunner::load_state(const SavedState& st) {
   // the events already in the restored state are not news
   std::vector<SnapshotEvent> old;
   const auto& tools = sim_.tools();
-  for (size_t i = 0; i < tools.size(); ++i) event_cursor_[i] = tools[i]->events_since(0, static_cast<int>(i), old);
+  for (size_t i = 0; i < tools.size(); ++i) event_cursor_[i] = tools[i]->events_since(0, static_cast<int>(i), old, std::numeric_limits<size_t>::max());
   if (keep_good_) keep_last_good(true);
 }
 
-void TickRunner::fill_snapshot(Snapshot& out, bool keep_events, bool with_hash) {
+void TickRunner::fill_snapshot(Snapshot& out, bool keep_events, bool with_hash, size_t max_events) {
   const Model& m = sim_.model();
   const State& s = sim_.state();
   out.tick = tick_;
@@ -215,12 +215,12 @@ void TickRunner::fill_snapshot(Snapshot& out, bool keep_events, bool with_hash) 
     r = ToolReadout{};
     std::snprintf(r.name.data(), r.name.size(), "%s", tools[i]->name());
     tools[i]->readout(r, m, s);
-    event_cursor_[i] = tools[i]->events_since(event_cursor_[i], static_cast<int>(i), out.events);
+    event_cursor_[i] = tools[i]->events_since(event_cursor_[i], static_cast<int>(i), out.events, max_events);
   }
   // refused commands are events too (the trainee sees why nothing happened)
   const RefusalRing& rr = applier_.refusals();
-  const int64_t first = std::max(refusal_cursor_, rr.total() - rr.size());
-  for (int64_t k = first; k < rr.total(); ++k) {
+  int64_t k = std::max(refusal_cursor_, rr.total() - rr.size());
+  for (; k < rr.total() && out.events.size() < max_events; ++k) {
     const RefusalReport& r = rr.at(static_cast<int>(rr.size() - (rr.total() - k)));
     SnapshotEvent e;
     e.time = s.time;
@@ -229,7 +229,7 @@ void TickRunner::fill_snapshot(Snapshot& out, bool keep_events, bool with_hash) 
     std::snprintf(e.text.data(), e.text.size(), "%s refused: %s", command_kind_name(r.kind), r.text);
     out.events.push_back(e);
   }
-  refusal_cursor_ = rr.total();
+  refusal_cursor_ = k;
   for (size_t k = carried; k < out.events.size(); ++k) out.events[k].seq = ++event_seq_;
   out.state_hash = with_hash ? sim_.hash() : 0;
   out.faulted = faulted_ || s.fault.kind != StepFault::None;

@@ -28,6 +28,7 @@
 // run on give the same bits.
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -132,8 +133,11 @@ class TickRunner {
   void finish_hashes();
 
   // Fills `out` with the current state. keep_events: `out` holds events not yet read (a
-  // snapshot the reader skipped), so append to them instead of replacing them.
-  void fill_snapshot(Snapshot& out, bool keep_events = false, bool with_hash = false);
+  // snapshot the reader skipped), so append to them instead of replacing them. max_events: the
+  // most `out.events` holds afterwards; newer events wait for the next call (no allocation when
+  // it is the vector's reserved capacity).
+  void fill_snapshot(Snapshot& out, bool keep_events = false, bool with_hash = false,
+                     size_t max_events = std::numeric_limits<size_t>::max());
 
  private:
   Simulation& sim_;

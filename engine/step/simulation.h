@@ -63,8 +63,14 @@ class Tool {
   virtual void serialize(StateIO&) {}
   // Read-out for panels (one per tool, engine/contract/snapshot.h). Default: the name only.
   virtual void readout(ToolReadout&, const Model&, const State&) const {}
-  // Appends the events after `cursor` (a count the tool defines) and returns the new cursor.
-  virtual int64_t events_since(int64_t cursor, int /*tool_index*/, std::vector<SnapshotEvent>&) const { return cursor; }
+  // Appends the events after `cursor` (a count the tool defines), while `out` holds fewer than
+  // `max_size`, and returns the cursor of the first event not appended: events past the bound wait
+  // for the next call instead of growing `out` (the physics thread's snapshot buffers are sized
+  // once; a burst of events is delivered over several snapshots, in order, none lost while the
+  // tool's ring still holds it).
+  virtual int64_t events_since(int64_t cursor, int /*tool_index*/, std::vector<SnapshotEvent>&, size_t /*max_size*/) const {
+    return cursor;
+  }
   // Where the current substep sits in its tick (valid inside the hooks).
   const StepContext& step_context() const { return *ctx_; }
 

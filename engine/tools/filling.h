@@ -49,7 +49,7 @@ class FillingTool final : public Tool {
   void readout(ToolReadout& r, const Model& m, const State& s) const override;
   // the clamps since `cursor` as snapshot events (kSnapshotEventAdjusted, text formatted here,
   // on the reader's side of the ring)
-  int64_t events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out) const override;
+  int64_t events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out, size_t max_size) const override;
 
   // --- live commands (between ticks, on the physics thread; from another thread push a Command
   // through engine/realtime/command_queue.h, applied by engine/realtime/command_apply.h) ---

@@ -137,8 +137,8 @@ std::vector<std::string> FillingTool::reports() const {
   return report_lines(reports_, "filling", [this](const ToolReport& r, char* b, size_t n, bool brief) { describe(r, b, n, brief); });
 }
 
-int64_t FillingTool::events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out) const {
-  return report_events(reports_, cursor, tool_index, out,
+int64_t FillingTool::events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out, size_t max_size) const {
+  return report_events(reports_, cursor, tool_index, out, max_size,
                        [this](const ToolReport& r, char* b, size_t n, bool brief) { describe(r, b, n, brief); });
 }
 

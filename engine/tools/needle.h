@@ -182,7 +182,7 @@ class NeedleTool : public Tool {
   int find_item(const char* name) const override { return find(name); }
   void serialize(StateIO& io) override;
   void readout(ToolReadout& r, const Model& m, const State& s) const override;
-  int64_t events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out) const override;
+  int64_t events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out, size_t max_size) const override;
   // The probe whose template and guide SelectHole aims along (build_scene attaches it).
   void attach_probe(const class ProbeTool* probe) { probe_ = probe; }
   int active() const { return active_; }   // the selected needle (SelectNeedle), 0 at start

@@ -311,7 +311,7 @@ void NeedleTool::readout(ToolReadout& r, const Model&, const State&) const {
   r.active = true;
 }
 
-int64_t NeedleTool::events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out) const {
+int64_t NeedleTool::events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out, size_t max_size) const {
   const int64_t total = events_.total();
   const int64_t held = static_cast<int64_t>(events_.size());
   int64_t first = std::max(cursor, total - held);  // older ones were overwritten
@@ -319,6 +319,7 @@ int64_t NeedleTool::events_since(int64_t cursor, int tool_index, std::vector<Sna
     const NeedleEvent& e = events_.at(static_cast<size_t>(held - (total - k)));
     // stick/slip flicker is for plots, not the event list a trainee reads
     if (e.kind == NeedleEventKind::Stick || e.kind == NeedleEventKind::Slip) continue;
+    if (out.size() >= max_size) return k;
     SnapshotEvent se;
     se.time = e.time;
     se.tool = tool_index;

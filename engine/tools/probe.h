@@ -114,7 +114,7 @@ class ProbeTool final : public Tool {
   void serialize(StateIO& io) override;
   void readout(ToolReadout& r, const Model& m, const State& s) const override;
   // the lengthened moves since `cursor` as snapshot events (kSnapshotEventAdjusted)
-  int64_t events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out) const override;
+  int64_t events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out, size_t max_size) const override;
 
   // Broad phase used from the next substep on (default Box). Between ticks.
   void set_broad_phase(ProbeBroadPhase b) { broad_ = fcl_ ? b : ProbeBroadPhase::Box; }

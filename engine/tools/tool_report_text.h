@@ -28,11 +28,13 @@ std::vector<std::string> report_lines(const ToolReportRing& ring, const char* wh
 }
 
 // the records from number `cursor` on as kSnapshotEventAdjusted events of tool `tool_index`
-// (brief text); returns the cursor for the next call
+// (brief text) while `out` holds fewer than max_size; returns the cursor for the next call (the
+// first record not appended)
 template <class Describe>
 int64_t report_events(const ToolReportRing& ring, int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out,
-                      Describe describe) {
+                      size_t max_size, Describe describe) {
   for (int64_t k = std::max(cursor, ring.dropped()); k < ring.total(); ++k) {
+    if (out.size() >= max_size) return k;
     const ToolReport& r = ring.record(k);
     SnapshotEvent e;
     e.time = r.time;
