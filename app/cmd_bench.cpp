@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "app/commands.h"
+#include "app/output_paths.h"
 #include "app/plot/chart.h"
 #include "app/progress.h"
 #include "app/validation.h"
@@ -297,6 +298,9 @@ void add_bench_command(CLI::App& app, Runner& run) {
   sub->callback([a, &run] {
     run = [a]() -> int {
       const std::string root = find_root(a->root);
+      // the outputs before minutes of runs (app/output_paths.h)
+      prepare_output_dir(a->out, "--out");
+      prepare_output_file(a->json, "--json");
       const std::vector<std::string> models = split(a->models);
       if (models.empty()) throw InputError("", 0, "--models", "give at least one model");
       // Check every model name against the parser before running anything.
@@ -380,7 +384,6 @@ void add_bench_command(CLI::App& app, Runner& run) {
       mark_pareto(cs);
       progress.clear();
 
-      std::filesystem::create_directories(a->out);
       std::ostringstream csv;
       csv << "scene,model,spacing_mm,substeps_per_tick,substep_ms,precision,wall_s_per_sim_s,err_rms_rel,err_max_rel,pareto,shipped,"
              "reference\n";

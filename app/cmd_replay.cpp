@@ -23,6 +23,7 @@
 
 #include "app/cli_ranges.h"
 #include "app/commands.h"
+#include "app/output_paths.h"
 #include "app/run_session.h"
 #include "app/session_capture.h"
 #include "engine/util/error.h"
@@ -72,7 +73,7 @@ int replay(const ReplayArgs& a) {
   if (!a.report.empty()) {
     capture = SessionCapture::make(scene);
     if (!capture) throw InputError(a.scenario, 0, "--report", "the scenario has no needles: section (nothing to score)");
-    prepare_report_dir(a.report, "--report");
+    prepare_output_dir(a.report, "--report");
   }
   CommandPlayer player(std::move(cmds));
   LockstepRunner runner(*scene.sim);

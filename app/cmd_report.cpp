@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "app/commands.h"
+#include "app/output_paths.h"
 #include "app/report_chart.h"
 #include "engine/io/png_write.h"
 #include "engine/metrics/class_report.h"
@@ -32,7 +33,7 @@ void add_report_command(CLI::App& app, Runner& run) {
       const std::vector<MetricsRow> rows = load_sessions(args->folders);
       const auto by = sessions_by_trainee(rows);
       const RgbImage chart = render_report_chart(rows);  // every input checked before anything is written
-      std::filesystem::create_directories(args->out);
+      prepare_output_dir(args->out, "--out");
       const std::string dir = args->out + "/";
       write_file_atomic(dir + "sessions.csv", sessions_csv(rows));
       write_png_atomic(dir + "summary.png", chart.width, chart.height, 3, chart.pixels.data());

@@ -29,6 +29,7 @@
 
 #include "app/cli_ranges.h"
 #include "app/commands.h"
+#include "app/output_paths.h"
 #include "app/run_session.h"
 #include "app/session_capture.h"
 #include "engine/realtime/state_file.h"
@@ -110,7 +111,7 @@ int run_live(const RunArgs& a) {
   if (!a.report.empty()) {
     capture = SessionCapture::make(scene);
     if (!capture) throw InputError(a.scenario, 0, "--report", "the scenario has no needles: section (nothing to score)");
-    prepare_report_dir(a.report, "--report");
+    prepare_output_dir(a.report, "--report");
   }
   std::unique_ptr<RecordingWriter> rec;
   const FaultInjection inject = parse_fault_injection(a.inject);

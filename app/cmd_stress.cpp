@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "app/commands.h"
+#include "app/output_paths.h"
 #include "app/progress.h"
 #include "app/stress.h"
 #include "engine/realtime/script.h"
@@ -124,6 +125,8 @@ void add_stress_command(CLI::App& app, Runner& run) {
                                               "needle_1m_s, gun_fired, pullback_stuck, probe_push_rotate, fill_max_rate, "
                                               "random_impulses, random_commands, soak)");
       opt.cases = a->cases;
+      prepare_output_file(a->json, "--json");
+      prepare_output_file(a->csv, "--csv");
       const std::vector<std::string> files = a->scenarios.empty() ? default_scenarios(a->root) : a->scenarios;
       if (!a->script.empty() && a->script != "none" && files.size() != 1)
         throw InputError("", 0, "--script", "--script needs exactly one scenario (each default scene has its own script)");

@@ -10,6 +10,7 @@
 
 #include "app/cli_ranges.h"
 #include "app/commands.h"
+#include "app/output_paths.h"
 #include "app/progress.h"
 #include "app/validate_indentation.h"
 #include "app/validate_probe.h"
@@ -60,6 +61,7 @@ void add_validate_command(CLI::App& app, Runner& run) {
     run = [args]() -> int {
       const std::string root = find_root(args->root);
       const std::string data = args->data.empty() ? root + "/../shared/data" : args->data;
+      prepare_output_file(args->json, "--json");
       set_displacement_output_dir(args->out);
       set_indentation_model(args->model);
       for (double h : args->spacings)

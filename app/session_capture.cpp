@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 #include "app/session_report.h"
 #include "app/session_views.h"
@@ -117,16 +116,6 @@ Score SessionCapture::write(const std::string& dir, bool faulted, const std::str
   const RgbImage page = render_session_report(m, scene_.sim->state(), needles_, *rec_, r, score, &views);
   write_png_atomic(d + "report.png", page.width, page.height, 3, page.pixels.data());
   return score;
-}
-
-void prepare_report_dir(const std::string& dir, const std::string& option) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (dir.empty()) throw InputError("", 0, option, "empty output folder");
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) throw InputError(dir, 0, option, "exists and is not a folder");
-  fs::create_directories(dir, ec);
-  if (ec) throw InputError(dir, 0, option, "cannot create the folder: " + ec.message());
-  if (::access(dir.c_str(), W_OK) != 0) throw InputError(dir, 0, option, "the folder is not writable");
 }
 
 }  // namespace ps::app

@@ -63,7 +63,4 @@ class SessionCapture : public CommandSource {
   std::unique_ptr<ForceDepthRecorder> rec_;
 };
 
-// Checks an output folder before a run (created, writable); InputError naming the option.
-void prepare_report_dir(const std::string& dir, const std::string& option);
-
 }  // namespace ps::app

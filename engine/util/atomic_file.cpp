@@ -6,19 +6,21 @@
 #include <stdexcept>
 #include <unistd.h>
 
+#include "engine/util/error.h"
+
 namespace ps {
 
 void write_file_atomic(const std::string& path, std::string_view content) {
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
+  if (!f) throw InputError(path, 0, "", std::string("cannot write: ") + std::strerror(errno));
   const bool ok = std::fwrite(content.data(), 1, content.size(), f) == content.size() &&
                   std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
   const bool closed = std::fclose(f) == 0;
   if (!ok || !closed || std::rename(tmp.c_str(), path.c_str()) != 0) {
     const std::string why = std::strerror(errno);
     std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write: " + why);
+    throw InputError(path, 0, "", "cannot write: " + why);
   }
 }
 

@@ -6,7 +6,8 @@
 
 namespace ps {
 
-// Throws std::runtime_error naming the path on failure; the temp file is removed.
+// Throws InputError naming the path on failure (a folder that is missing or read-only, a full
+// disk: the path or the machine, not a bug); the temp file is removed.
 void write_file_atomic(const std::string& path, std::string_view content);
 
 }  // namespace ps

@@ -95,6 +95,36 @@ TEST(Cli, OutOfRangeNumbersExit2NamingTheOptionAndItsBounds) {
   EXPECT_FALSE(fs::exists(out / "particles.csv"));
 }
 
+// An output path that cannot be written is bad input, found before any work: exit 2 naming the
+// option. Before, `bench --json /missing/x.json` ran its whole bench (~20 s) and then reported an
+// "internal error ... a bug in ProstateSim", exit 4; `stress --json` and `--csv` did the same.
+TEST(Cli, OutputPathsThatCannotBeWrittenExit2NamingTheOptionBeforeAnyRun) {
+  const fs::path out = temp_dir("outputs");
+  const std::string missing = (out / "no_such_folder" / "x.json").string();
+  std::ofstream(out / "a_file") << "x";
+  const std::string file = (out / "a_file").string();
+  const std::string root = " --root " + kSource;
+  struct Case {
+    std::string args, expect;
+  };
+  const Case cases[] = {
+      {"bench --quick --json " + missing + root, "'--json': cannot write: the folder"},
+      {"bench --quick --json " + out.string() + root, "'--json': is a folder"},
+      {"bench --quick --out " + file + root, "'--out': exists and is not a folder"},
+      {"stress " + kSource + "/config/validation/cube_bonded.yaml --quick --cases soak --json " + missing, "'--json': cannot write"},
+      {"stress " + kSource + "/config/validation/cube_bonded.yaml --quick --cases soak --csv " + missing, "'--csv': cannot write"},
+      {"validate cube_bonded --json " + missing + root, "'--json': cannot write"},
+  };
+  for (const Case& c : cases) {
+    const Result r = run(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_EQ(r.out.find("internal error"), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_LT(r.out.size(), 400u) << c.args << "\n" << r.out;  // one message, no run's output before it
+  }
+  EXPECT_FALSE(fs::exists(out / "no_such_folder"));
+}
+
 TEST(Cli, BlowUpExits3NamingParticleAndTime) {
   const fs::path dir = temp_dir("blow");
   const fs::path scen = dir / "blow.yaml";
