@@ -16,8 +16,6 @@
 
 namespace ps {
 
-std::vector<double> stiffness_proxy(const Model& m, bool fast_only = false);
-
 // The explicit step's limit for a mode of frequency omega [rad/s] with stiffness-proportional
 // damping beta [s] (forces at x + beta v): (2 / omega)(sqrt(1 + zeta^2) - zeta), zeta = beta omega / 2
 // (central differences with Rayleigh damping, Belytschko, Liu & Moran, "Nonlinear finite elements",
@@ -129,9 +127,9 @@ void scale_inertia_to_substep(Model& m, double margin) {
 
 // Per-particle stiffness proxy d_p [N/m]: k_e of its own attractor plus the shares of the
 // attractors it enters (w^2 k_e), for strain clusters (2 mu V + lambda V) |g|^2 + k_r, for tet
-// elements V0 (mu + kappa) |g_i|^2 (the diagonals of the stiffness). A lone particle on a spring
-// d_p has omega^2 = d_p / m_p.
-std::vector<double> stiffness_proxy(const Model& m, bool fast_only) {
+// elements the shear and nodal pressure terms below (the diagonals of the stiffness, or for the
+// nodal pressure an element bound). A lone particle on a spring d_p has omega^2 = d_p / m_p.
+std::vector<double> stiffness_proxy(const Model& m, bool fast_only, ProxyForm form) {
   const int n = m.particle_count();
   std::vector<double> d(n, 0.0);
   for (int p = 0; p < n; ++p) {
@@ -143,18 +141,43 @@ std::vector<double> stiffness_proxy(const Model& m, bool fast_only) {
   for (int c = 0; c < sc.count(); ++c)
     for (int i = sc.start[c]; i < sc.start[c + 1]; ++i)
       d[sc.member[i]] += (sc.mu2v[c] + sc.k_v[c]) * sc.g[i].squaredNorm() + sc.k_r[c];
-  // tet elements: V0 (mu + kappa) |g_i|^2 per vertex (the diagonal of the element's stiffness)
-  // (fast_only: the multi-rate fast group's elements, those that set the substep)
+  // tet elements (fast_only: the multi-rate fast group's elements, those that set the substep).
+  // Shear: V0 mu |g_i|^2 per vertex, the diagonal of the element's deviatoric stiffness at rest.
+  // Volume, ProxyForm::Diagonal: the diagonal of the nodal pressure term itself, kappa_n / V0_n
+  // |dV_n/dx_p|^2 summed over the nodes n whose volume share x_p moves, with dV_n/dx_p = 1/4 sum
+  // over the elements holding both n and p of V0_t g_p (at rest). The elements' gradients around a
+  // node largely cancel in that sum (exactly, for an interior node's own share), so it is ~8x below
+  // ProxyForm::ElementBound's V0 kappa |g_i|^2, each element's volume stiffness counted whole as
+  // if it kept its own volume (fat and skin of the default anatomy: mean 8.0x, largest ratio to the
+  // mass 16x). The diagonal sizes inertia; the element bound gates the multi-rate slow group.
   const TetElements& te = m.tets;
-  for (int t = 0, nt = fast_only ? te.fast_count : te.count(); t < nt; ++t) {
+  const int nt_proxy = fast_only ? te.fast_count : te.count();
+  const bool diagonal = form == ProxyForm::Diagonal;
+  std::vector<std::vector<std::pair<int, Vec3>>> share_grad(diagonal ? te.nodes.size() : 0);  // [node] (p, dV_n/dx_p)
+  for (int t = 0; t < nt_proxy; ++t) {
     const double* g = &te.g[9 * t];
     const Vec3 g1(g[0], g[1], g[2]), g2(g[3], g[4], g[5]), g3(g[6], g[7], g[8]), g0 = -(g1 + g2 + g3);
     const Vec3 gi[4] = {g0, g1, g2, g3};
-    for (int i = 0; i < 4; ++i) {
-      const int p = te.v[4 * t + i];
-      d[p] += te.vol0[t] * (te.mu[t] + te.node_kappa_explicit[te.node_slot[p]]) * gi[i].squaredNorm();
+    const int* v = &te.v[4 * t];
+    if (!diagonal) {
+      for (int i = 0; i < 4; ++i) d[v[i]] += te.vol0[t] * (te.mu[t] + te.node_kappa_explicit[te.node_slot[v[i]]]) * gi[i].squaredNorm();
+      continue;
+    }
+    for (int i = 0; i < 4; ++i) d[v[i]] += te.vol0[t] * te.mu[t] * gi[i].squaredNorm();
+    for (int j = 0; j < 4; ++j) {
+      const int slot = te.node_slot[v[j]];
+      if (te.node_kappa_explicit[slot] == 0.0) continue;  // implicit pressure: not a force
+      auto& list = share_grad[slot];
+      for (int i = 0; i < 4; ++i) {
+        auto it = std::find_if(list.begin(), list.end(), [&](const auto& e) { return e.first == v[i]; });
+        const Vec3 add = 0.25 * te.vol0[t] * gi[i];
+        if (it == list.end()) list.emplace_back(v[i], add);
+        else it->second += add;
+      }
     }
   }
+  for (size_t a = 0; a < share_grad.size(); ++a)
+    for (const auto& [p, grad] : share_grad[a]) d[p] += te.node_kappa_explicit[a] * te.node_inv_vol0[a] * grad.squaredNorm();
   // shell triangles: A0 t (2 mu + lambda) |g_i|^2 per vertex (g_1, g_2 the rows of Dm^-1, g_0 minus
   // their sum); hinges: k_h |d theta / d x_i|^2 at rest
   const ShellElements& sh = m.shells;
@@ -227,7 +250,7 @@ std::string partition_tet_rates(Model& m, double margin) {
   TetElements& te = m.tets;
   const int n = m.particle_count(), nt = te.count();
   if (nt == 0) return {};
-  const std::vector<double> d = stiffness_proxy(m);
+  const std::vector<double> d = stiffness_proxy(m, false, ProxyForm::ElementBound);
   // a particle's own limit 2 / omega_p with omega_p^2 = d_p / m_p (inertial mass); fixed ones never limit
   std::vector<double> limit(n, std::numeric_limits<double>::infinity());
   for (int p = 0; p < n; ++p)
@@ -273,7 +296,10 @@ bool partition_tet_rates_with_inertia(Model& m, double margin, double max_factor
   TetElements& te = m.tets;
   const int n = m.particle_count(), nt = te.count();
   if (nt == 0) return false;
-  const std::vector<double> d = stiffness_proxy(m);
+  // the gate: the element bound (a particle counts as slow only where it admits the tick, with up
+  // to max_factor of inertia); the inertia itself: the diagonal, what the particle needs
+  const std::vector<double> gate = stiffness_proxy(m, false, ProxyForm::ElementBound);
+  const std::vector<double> d = stiffness_proxy(m, false, ProxyForm::Diagonal);
   const double want = m.dt / margin;  // the per-particle limit the partition asks for [s]
   const double beta = m.stiffness_damping;  // [s]
   std::vector<uint8_t> excluded(n, 0);
@@ -283,19 +309,31 @@ bool partition_tet_rates_with_inertia(Model& m, double margin, double max_factor
   const std::vector<double> inv_mass0 = m.inv_mass, damping0 = m.damping;
   const TetOrder orig{te.v, te.g, te.vol0, te.mu};
   std::vector<uint8_t> slow(n, 0);
-  static constexpr double kLadder[] = {1.1, 1.25, 1.4, 1.6, 2.0};
-  for (const double a : kLadder) {
+  // Rungs, tried in order until the slow group's estimate admits the tick: first the bound's gate
+  // at 1.1 with the inertia sized on the diagonal, amplified step by step (at most max_factor);
+  // then the gate narrowed with the inertia sized on the bound (the form used until Dec 2026).
+  struct Rung {
+    double gate, size;
+    bool on_diagonal;
+  };
+  static constexpr Rung kRungs[] = {{1.1, 1.1, true},   {1.1, 1.25, true},  {1.1, 1.4, true},   {1.1, 1.6, true},
+                                    {1.1, 2.0, true},   {1.1, 2.5, true},   {1.1, 3.2, true},   {1.1, 4.0, true},
+                                    {1.1, 5.0, true},   {1.1, 6.4, true},   {1.1, 8.0, true},   {1.1, 16.0, true},
+                                    {1.1, 1.1, false},  {1.25, 1.25, false}, {1.4, 1.4, false}, {1.6, 1.6, false},
+                                    {2.0, 2.0, false}};
+  for (const Rung& rung : kRungs) {
+    const double a = rung.gate;
     for (int p = 0; p < n; ++p) {
       m.inv_mass[p] = inv_mass0[p];
       m.damping[p] = damping0[p];
       const double im = inv_mass0[p];
-      if (im == 0.0 || d[p] == 0.0) { slow[p] = 1; continue; }  // fixed, or no stiffness: never limits
+      if (im == 0.0 || gate[p] == 0.0) { slow[p] = 1; continue; }  // fixed, or no stiffness: never limits
       // inertial mass for the proxy to admit the tick / own mass: the damped limit
       // (2 / w)(sqrt(1 + z^2) - z), z = beta w / 2, reaches `want` at w = 2 / sqrt(want (want + 2 beta))
-      const double need = d[p] * want * (want + 2.0 * beta) / 4.0 * im;
-      if (need <= 1.0) { slow[p] = 1; continue; }
-      const double factor = a * need;
-      slow[p] = !excluded[p] && factor <= max_factor;
+      const double w2 = want * (want + 2.0 * beta) / 4.0 * im;
+      if (gate[p] * w2 <= 1.0) { slow[p] = 1; continue; }
+      slow[p] = !excluded[p] && a * gate[p] * w2 <= max_factor;
+      const double factor = std::clamp(rung.size * (rung.on_diagonal ? d[p] : gate[p]) * w2, 1.0, max_factor);
       if (slow[p]) {
         m.inv_mass[p] = im / factor;
         m.damping[p] = damping0[p] / factor;
@@ -324,7 +362,8 @@ bool partition_tet_rates_with_inertia(Model& m, double margin, double max_factor
     notes.push_back(slow_group_line(te, slow_limit));
     if (!(total > 0.0)) return true;
     char b[160];
-    std::snprintf(b, sizeof b, "multirate inertia: %.4g g added for the slow group (amplification %.3g of the proxy's need", total * 1e3, a);
+    std::snprintf(b, sizeof b, "multirate inertia: %.4g g added for the slow group (%.3g x the %s's need", total * 1e3, rung.size,
+                  rung.on_diagonal ? "stiffness diagonal" : "element bound");
     std::string line = b;
     for (size_t c = 0; c < kept.size(); ++c) {
       if (!(kept[c] > 0.0)) continue;
