@@ -48,6 +48,27 @@ class BurstTool final : public Tool {
 
 constexpr int kBurst = 600;  // more than two snapshot buffers' worth
 
+// What the reader met of the burst (event k carries k), and the allocations counted meanwhile.
+struct BurstReader {
+  std::vector<double> got;
+  uint64_t taken = 0;  // newest seq taken
+  long allocations = 0;
+  BurstReader() { got.reserve(kBurst); }
+  void take(const std::vector<SnapshotEvent>& events) {
+    EXPECT_LE(events.size(), 256u);
+    for (const SnapshotEvent& e : events)
+      if (e.seq > taken) {
+        got.push_back(e.depth);
+        taken = e.seq;
+      }
+  }
+  void expect_whole_in_order() const {
+    EXPECT_EQ(allocations, 0);
+    ASSERT_EQ(got.size(), static_cast<size_t>(kBurst)) << "events lost or repeated";
+    for (int k = 0; k < kBurst; ++k) EXPECT_EQ(got[k], static_cast<double>(k)) << "event " << k << " out of order";
+  }
+};
+
 TEST(EventBurst, FillSnapshotHoldsBackWhatExceedsTheBoundAndDeliversItNext) {
   Scene sc = test::make_live_scene();
   sc.sim->add_tool(std::make_unique<BurstTool>(2, kBurst));
@@ -57,25 +78,17 @@ TEST(EventBurst, FillSnapshotHoldsBackWhatExceedsTheBoundAndDeliversItNext) {
   snap.events.reserve(256);
   run.runner().fill_snapshot(snap);  // sizes positions, tools and draw lists once
   ASSERT_TRUE(run.step());           // the burst
-  std::vector<double> got;
-  got.reserve(kBurst);
-  uint64_t last_seq = 0;
-  long allocations = 0;
+  BurstReader reader;
   for (int call = 0; call < 4; ++call) {
     const long before = test::allocation_count();
     run.runner().fill_snapshot(snap, false, false, snap.events.capacity());
-    allocations += test::allocation_count() - before;
-    EXPECT_LE(snap.events.size(), 256u);
-    for (const SnapshotEvent& e : snap.events) {
-      EXPECT_GT(e.seq, last_seq);
-      last_seq = e.seq;
-      got.push_back(e.depth);
-    }
+    reader.allocations += test::allocation_count() - before;
+    // a fresh snapshot each call (keep_events false): every event in it is new
+    if (!snap.events.empty()) EXPECT_GT(snap.events.front().seq, reader.taken);
+    reader.take(snap.events);
   }
-  EXPECT_EQ(allocations, 0);
   EXPECT_EQ(snap.events.capacity(), 256u);
-  ASSERT_EQ(got.size(), static_cast<size_t>(kBurst)) << "events lost or repeated";
-  for (int k = 0; k < kBurst; ++k) EXPECT_EQ(got[k], static_cast<double>(k)) << "event " << k << " out of order";
+  reader.expect_whole_in_order();
 }
 
 // The threaded loop with a reader that takes every snapshot: the burst reaches it whole, in order,
@@ -88,29 +101,18 @@ TEST(EventBurst, ThePhysicsLoopPublishesABurstOverSeveralTicksWithoutAllocating)
   opt.log_timing = false;
   PhysicsLoop loop(*sc.sim, opt);
   loop.start();
-  std::vector<double> got;
-  got.reserve(kBurst);
-  uint64_t taken = 0;
-  long allocations = 0;
+  BurstReader reader;
   for (int k = 0; k < 12; ++k) {
     const long before = test::allocation_count();
     loop.single_step(1);
     loop.wait_for_tick(k + 1);
     // the tick's snapshot is published right after its tick counter: give it that moment
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    if (k >= 3) allocations += test::allocation_count() - before;  // ticks 1-3 fill each of the three buffers once
-    if (!loop.update_snapshot()) continue;
-    EXPECT_LE(loop.snapshot().events.size(), 256u);
-    for (const SnapshotEvent& e : loop.snapshot().events)
-      if (e.seq > taken) {
-        got.push_back(e.depth);
-        taken = e.seq;
-      }
+    if (k >= 3) reader.allocations += test::allocation_count() - before;  // ticks 1-3 fill each of the three buffers once
+    if (loop.update_snapshot()) reader.take(loop.snapshot().events);
   }
   loop.stop();
-  EXPECT_EQ(allocations, 0);
-  ASSERT_EQ(got.size(), static_cast<size_t>(kBurst)) << "events lost or repeated";
-  for (int k = 0; k < kBurst; ++k) EXPECT_EQ(got[k], static_cast<double>(k)) << "event " << k << " out of order";
+  reader.expect_whole_in_order();
 }
 
 }  // namespace
