@@ -11,9 +11,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <unordered_map>
@@ -142,15 +144,37 @@ void precheck_stl(const std::string& file, std::string_view data) {
 
 void precheck_obj(const std::string& file, std::string_view data) {
   require_text(file, data, "OBJ");
-  // Bound polygon sizes (see kMaxPolygonVertices) and report the line of the offender.
+  // Bound polygon sizes (see kMaxPolygonVertices) and report the line of the offender. A vertex
+  // with a coordinate that is not finite in single precision (nan, inf, 1e999; assimp reads
+  // floats) is named by its OBJ number and line here: assimp's own numbering of it, one vertex
+  // per face corner, is not the file's.
   size_t pos = 0;
   int line = 1;
+  long long vertex = 0;
   while (pos < data.size()) {
     size_t end = data.find('\n', pos);
     if (end == std::string_view::npos) end = data.size();
     std::string_view l = data.substr(pos, end - pos);
     size_t i = 0;
     while (i < l.size() && (l[i] == ' ' || l[i] == '\t')) ++i;
+    if (i + 1 < l.size() && l[i] == 'v' && (l[i + 1] == ' ' || l[i + 1] == '\t')) {
+      ++vertex;
+      const std::string coords(l.substr(i + 1));
+      const char* c = coords.c_str();
+      double xyz[3] = {0.0, 0.0, 0.0};
+      bool bad = false;
+      for (double& v : xyz) {
+        char* next = nullptr;
+        v = std::strtod(c, &next);
+        if (next == c) break;  // fewer than three numbers: assimp's parser reports it
+        bad |= !(std::abs(v) <= std::numeric_limits<float>::max());
+        c = next;
+      }
+      if (bad)
+        fail(file, "vertex " + std::to_string(vertex) + " has a non-finite coordinate " +
+                       fmt_vec(static_cast<float>(xyz[0]), static_cast<float>(xyz[1]), static_cast<float>(xyz[2])),
+             line, "v");
+    }
     if (i + 1 < l.size() && (l[i] == 'f' || l[i] == 'l') && (l[i + 1] == ' ' || l[i + 1] == '\t')) {
       long long tokens = 0;
       bool in_token = false;
