@@ -30,17 +30,16 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
 // `pass` selects the tet elements (multi-rate: the fast group with the other force stages, or the
 // slow group alone).
 double estimate_stable_dt(const Model& model, TetPass pass = TetPass::All);
-// Per-particle stiffness proxy d_p [N/m] (omega_p^2 = d_p / m_p of a particle alone): the diagonal
-// of the elastic stiffness at rest, term by term (attractors, strain clusters, tet shear and nodal
-// pressure, shell membranes and hinges). For the tet model it lies between the largest eigenvalue
-// and the trace of the particle's own 3x3 block of the stiffness. It picks the particles that
-// multi-rate and mass scaling act on; the power-iteration estimate confirms. fast_only: the tet
-// elements of the multi-rate fast group only (compile_time_step.cpp).
-// Diagonal: the diagonal itself (between the block's largest eigenvalue and its trace); sizes
-// inertia (mass scaling, multi-rate inertia). ElementBound: the nodal pressure counted per element,
-// V0 kappa |g_i|^2, ~8x the diagonal in nearly incompressible fat; gates the multi-rate slow group
-// (a tighter gate let fat next to the rectal wall into it at a 1 ms tick, and the impulse
-// resonance blew the template plan up at 0.59 s: docs/performance.md, round 27).
+// Per-particle stiffness proxy d_p [N/m] (omega_p^2 = d_p / m_p of a particle alone), term by term
+// (attractors, strain clusters, tet shear and nodal pressure, shell membranes and hinges); it picks
+// the particles that multi-rate and mass scaling act on, and the power-iteration estimate confirms.
+// fast_only: the tet elements of the multi-rate fast group only (compile_time_step.cpp).
+// Diagonal: the diagonal of the elastic stiffness at rest (for the tet model between the largest
+// eigenvalue and the trace of the particle's own 3x3 block); sizes inertia (mass scaling,
+// multi-rate inertia). ElementBound: the nodal pressure counted per element, V0 kappa |g_i|^2, ~8x
+// the diagonal in nearly incompressible fat; gates the multi-rate slow group (the diagonal as the
+// gate let fat next to the rectal wall into it at a 1 ms tick, and the impulse resonance blew the
+// template plan up at 0.59 s: docs/performance.md, round 27).
 enum class ProxyForm { Diagonal, ElementBound };
 std::vector<double> stiffness_proxy(const Model& model, bool fast_only = false, ProxyForm form = ProxyForm::Diagonal);
 // solver.multirate: orders the tet elements fast first and sets TetElements::fast_count; an

@@ -322,7 +322,6 @@ bool partition_tet_rates_with_inertia(Model& m, double margin, double max_factor
                                     {1.1, 1.1, false},  {1.25, 1.25, false}, {1.4, 1.4, false}, {1.6, 1.6, false},
                                     {2.0, 2.0, false}};
   for (const Rung& rung : kRungs) {
-    const double a = rung.gate;
     for (int p = 0; p < n; ++p) {
       m.inv_mass[p] = inv_mass0[p];
       m.damping[p] = damping0[p];
@@ -332,7 +331,7 @@ bool partition_tet_rates_with_inertia(Model& m, double margin, double max_factor
       // (2 / w)(sqrt(1 + z^2) - z), z = beta w / 2, reaches `want` at w = 2 / sqrt(want (want + 2 beta))
       const double w2 = want * (want + 2.0 * beta) / 4.0 * im;
       if (gate[p] * w2 <= 1.0) { slow[p] = 1; continue; }
-      slow[p] = !excluded[p] && a * gate[p] * w2 <= max_factor;
+      slow[p] = !excluded[p] && rung.gate * gate[p] * w2 <= max_factor;
       const double factor = std::clamp(rung.size * (rung.on_diagonal ? d[p] : gate[p]) * w2, 1.0, max_factor);
       if (slow[p]) {
         m.inv_mass[p] = im / factor;
