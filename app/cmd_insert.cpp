@@ -10,10 +10,10 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 
 #include "app/cli_ranges.h"
 #include "app/commands.h"
+#include "app/output_paths.h"
 #include "app/session_capture.h"
 #include "engine/metrics/metrics_json.h"
 #include "engine/realtime/lockstep.h"
@@ -61,6 +61,7 @@ void add_insert_command(CLI::App& app, Runner& run) {
       scene.needle_tool = 0;
       const Model& model = *scene.model;
       auto capture = SessionCapture::make(scene);  // throws on a target outside the scene: before anything is written
+      prepare_output_dir(args->out, "--out");
       const double duration = args->duration > 0 ? args->duration : model.duration;
       const int64_t ticks = std::llround(duration / model.dt);
       LockstepRunner runner(*scene.sim);

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "app/commands.h"
+#include "app/output_paths.h"
 #include "engine/anatomy/anatomy_files.h"
 #include "engine/anatomy/pelvis.h"
 
@@ -15,6 +16,7 @@ void add_make_anatomy_command(CLI::App& app, Runner& run) {
   sub->add_option("--out", *out, "output folder (created)")->capture_default_str();
   sub->callback([out, &run] {
     run = [out]() -> int {
+      prepare_output_dir(*out, "--out");
       const anatomy::Anatomy a = anatomy::generate_anatomy();
       anatomy::write_anatomy_files(*out, a);
       std::printf("default anatomy -> %s (patient RAS frame, mm, origin at the prostate centre)\n", out->c_str());

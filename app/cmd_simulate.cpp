@@ -6,10 +6,10 @@
 // has a component named prostate.
 #include <spdlog/spdlog.h>
 
-#include <filesystem>
 
 #include "app/cli_ranges.h"
 #include "app/commands.h"
+#include "app/output_paths.h"
 #include "engine/io/output.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
@@ -56,9 +56,10 @@ void add_simulate_command(CLI::App& app, Runner& run) {
       opt.rest_hold = spec.rest_hold;
       spdlog::info("{}: {} particles, {} substeps of {:.3g} s per tick, compiled in {:.3f} s", spec.name,
                    model->particle_count(), model->substeps, model->dt / model->substeps, rep.seconds);
+      // after compiling (bad input writes nothing) and before the run (which must not end in a failed write)
+      prepare_output_dir(args->out, "--out");
       const std::vector<Vec3> start = sim.state().x;  // displacements are from here
       const RunResult r = run_simulation(sim, opt);
-      std::filesystem::create_directories(args->out);
       const std::string dir = args->out + "/";
       write_summary_json(dir + "summary.json", *model, r);
       if (r.faulted) {

@@ -7,11 +7,11 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <sstream>
 
 #include "app/cli_ranges.h"
 #include "app/commands.h"
+#include "app/output_paths.h"
 #include "engine/io/png_write.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
@@ -107,6 +107,7 @@ void add_ultrasound_command(CLI::App& app, Runner& run) {
       Simulation sim(model);
       sim.add_tool(std::move(probe_tool));
       if (needle_tool) sim.add_tool(std::move(needle_tool));
+      prepare_output_dir(a->out, "--out");  // after compiling (bad input writes nothing), before the run
       const long ticks = std::lround(a->time / model->dt);
       for (long i = 0; i < ticks; ++i)
         if (!sim.tick()) {
@@ -119,7 +120,6 @@ void add_ultrasound_command(CLI::App& app, Runner& run) {
       us::SceneOptions opt;
       opt.grid = a->grid == "on" || (a->grid == "auto" && seeds);
       us::scene_from_state(sim.state(), probe, needles, opt, scene);
-      std::filesystem::create_directories(a->out);
       const char* names[2] = {"us_transverse", "us_sagittal"};
       for (int v = 0; v < 2; ++v) {
         if (!want[v]) continue;

@@ -80,6 +80,11 @@ void add_validate_command(CLI::App& app, Runner& run) {
         chosen.push_back(found);
       }
       if (chosen.empty()) for (const auto& c : validation_cases()) chosen.push_back(&c);
+      for (const ValidationCase* c : chosen)
+        if (c->writes_files) {
+          prepare_output_dir(args->out, "--out");
+          break;
+        }
       std::vector<ValidationRow> rows;
       bool all_pass = true;
       std::printf("%-18s %-40s %12s %12s %-5s %s\n", "case", "metric", "value", "reference", "unit", "status");

@@ -139,7 +139,8 @@ std::vector<ValidationCase> probe_validation_cases() {
                          mm("prostate apex inferior (-z)", -d.apex.mean_vec.z());
                        }
                        return rows;
-                     }});
+                     },
+                     /*writes_files=*/true});
   };
   add("bladder_doubling", "bladder volume x2 (paper Fig. 11-12): prostate displacement, volumes exact", false);
   add("probe_push", "probe pushed 6 mm toward the prostate (4 mm into the rectal wall), contact mode", true);

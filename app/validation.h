@@ -25,6 +25,8 @@ struct ValidationCase {
   // Runs the case; `source_dir` is the repository root (scenarios in config/validation/),
   // `shared_data` the folder ../shared/data beside it.
   std::function<std::vector<ValidationRow>(const std::string& source_dir, const std::string& shared_data)> run;
+  // Writes per-particle files under `validate --out` (checked before any case runs).
+  bool writes_files = false;
 };
 
 const std::vector<ValidationCase>& validation_cases();

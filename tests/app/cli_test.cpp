@@ -114,6 +114,11 @@ TEST(Cli, OutputPathsThatCannotBeWrittenExit2NamingTheOptionBeforeAnyRun) {
       {"stress " + kSource + "/config/validation/cube_bonded.yaml --quick --cases soak --json " + missing, "'--json': cannot write"},
       {"stress " + kSource + "/config/validation/cube_bonded.yaml --quick --cases soak --csv " + missing, "'--csv': cannot write"},
       {"validate cube_bonded --json " + missing + root, "'--json': cannot write"},
+      {"validate probe_push --out " + file + root, "'--out': exists and is not a folder"},
+      {"simulate " + kSource + "/config/demo_cube.yaml --out " + file, "'--out': exists and is not a folder"},
+      {"insert " + kSource + "/config/biopsy.yaml --out " + file, "'--out': exists and is not a folder"},
+      {"ultrasound " + kSource + "/config/biopsy.yaml --out " + file, "'--out': exists and is not a folder"},
+      {"make-anatomy --out " + file, "'--out': exists and is not a folder"},
   };
   for (const Case& c : cases) {
     const Result r = run(c.args);
