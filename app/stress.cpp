@@ -359,6 +359,7 @@ StressResult soak(const ScenarioSpec& spec, const StressOptions& opt) {
   so.duration = opt.soak_s;
   so.budget_s = opt.budget_s;
   so.report_every_s = opt.report_every_s;
+  so.ring_floor_j = spec.rest_kinetic_energy;
   if (!opt.checkpoint.empty()) {
     so.checkpoint_every_s = opt.checkpoint_every_s;
     so.checkpoint = [&](const SoakCheckpoint& c) {
@@ -374,7 +375,10 @@ StressResult soak(const ScenarioSpec& spec, const StressOptions& opt) {
   r.tried = fmt("the scene for %.6g s of simulated time", opt.soak_s) +
             (script ? ", looping its script " + script_file + fmt(" (%.4g s a cycle)", script->duration)
                     : std::string(", no script (its own instrument scripts only)")) +
-            "; watchdog every tick: NaN, energy (10 m/s), volume drift 5%, particles 50 mm outside the scene";
+            "; watchdog every tick: NaN, energy (10 m/s), volume drift 5%, particles 50 mm outside the scene" +
+            fmt("; at each cycle's end: kinetic energy within %g x the first cycle end's after the scene's own scripts + %g J "
+                "(self-excitation)",
+                so.ring_factor, so.ring_floor_j);
   const Model& m = *sc.model;
   const SoakReport rep = run_soak(sc, script.get(), so, [&](const SoakReport& p) {
     if (!opt.progress) return;

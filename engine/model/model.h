@@ -269,6 +269,7 @@ struct Model {
   double dt = 1e-3;                // tick [s]
   int substeps = 1;                // physics substeps per tick
   double duration = 1.0;           // default simulated duration [s]
+  double leave_margin = 0.05;      // the watchdog's margin outside the rest bounding box [m] (not physics: not hashed)
   Vec3 gravity = Vec3::Zero();     // [m/s^2]
   Redistribution redistribution = Redistribution::Gradient;
   // Triplet selection (solver.triplets): 0 keeps every valid triplet of C(n,3) (the paper's

@@ -80,6 +80,7 @@ SoakReport run_soak(Scene& scene, const Script* script, const SoakOptions& opt,
   LockstepRunner run(*scene.sim);
   if (player) run.add_source(player.get());
   const Watchdog dog(m, opt.limits);
+  const double quiet_from = scripted_motion_end(scene.spec);  // [s]
   std::vector<Vec3> first_cycle_end;
   // a resumed soak: the state, and the figures and time spent so far
   double wall0 = 0.0, cpu0 = 0.0;
@@ -104,7 +105,7 @@ SoakReport run_soak(Scene& scene, const Script* script, const SoakOptions& opt,
     refused0 = r.refused;
     first_cycle_end = resume->first_cycle_end;
   }
-  r.limits = opt.limits;
+  r.limits = dog.limits();  // the effective limits (leave margin: the scene's unless given)
   r.kinetic_limit = dog.max_kinetic();
   const auto w0 = Clock::now();
   const double c0 = cpu_seconds();
@@ -147,6 +148,27 @@ SoakReport run_soak(Scene& scene, const Script* script, const SoakOptions& opt,
         compare(s.x, first_cycle_end, r.cycle_drift_max, r.cycle_drift_rms, r.cycle_drift_particle);
       }
       r.cycle_end_kinetic_last = kinetic_energy(m, s);
+      const double kinetic = r.cycle_end_kinetic_last;
+      if (r.ring_base_cycle == 0 && s.time >= quiet_from - 0.5 * m.dt) {
+        r.ring_base_cycle = r.cycles;
+        r.ring_base_kinetic = kinetic;
+      } else if (r.ring_base_cycle > 0 && opt.ring_factor > 0 &&
+                 !(kinetic <= opt.ring_factor * r.ring_base_kinetic + opt.ring_floor_j)) {
+        int fastest = 0;
+        for (int p = 1; p < m.particle_count(); ++p)
+          if (s.v[p].squaredNorm() > s.v[fastest].squaredNorm()) fastest = p;
+        const int c = m.component_of[fastest];
+        char b[384];
+        std::snprintf(b, sizeof b,
+                      "tick %lld: self-excited oscillation: kinetic energy %.3g J at the end of cycle %lld (t=%.6g s), more than "
+                      "%.3g x the %.3g J at the end of cycle %lld + %.3g J; fastest particle %d (%s) at %.3g m/s",
+                      static_cast<long long>(run.tick() - 1), kinetic, static_cast<long long>(r.cycles), s.time,
+                      opt.ring_factor, r.ring_base_kinetic, static_cast<long long>(r.ring_base_cycle), opt.ring_floor_j, fastest,
+                      c >= 0 ? m.components[c].name.c_str() : "?", s.v[fastest].norm());
+        r.held = false;
+        r.fault = b;
+        break;
+      }
     }
     if ((run.tick() & 63) == 0) {
       const auto now = Clock::now();
@@ -178,6 +200,19 @@ SoakReport run_soak(Scene& scene, const Script* script, const SoakOptions& opt,
     r.end_volume_drift.emplace_back(m.components[surf.component].name, std::abs(vol - s.target_volume[si]) / s.target_volume[si]);
   }
   return r;
+}
+
+double scripted_motion_end(const ScenarioSpec& spec) {
+  double end = 0.0;
+  for (const NeedleSpec& n : spec.needles.needles) {
+    if (!n.script.empty()) end = std::max(end, n.script.back().t);
+    if (n.gun && std::isfinite(n.gun->fire_time)) end = std::max(end, n.gun->fire_time + n.gun->duration + n.gun->settle);
+  }
+  if (spec.probe)
+    for (const ProbeMoveSpec& mv : spec.probe->moves) end = std::max(end, mv.t1);
+  if (spec.filling)
+    for (const FillSpec& f : spec.filling->schedule) end = std::max(end, f.t1);
+  return end;
 }
 
 std::string soak_figures(const SoakReport& r, const Model& m) {

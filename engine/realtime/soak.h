@@ -47,6 +47,15 @@ struct SoakOptions {
   double report_every_s = 60.0;   // wall time between progress callbacks [s]
   double period = 1.0;            // drift comparison period without a script [s]
   WatchLimits limits;
+  // A self-excited oscillation: once the scene's own scenario scripts are over (needle keys and
+  // gun, probe moves, filling schedule: scripted_motion_end), it repeats itself every cycle (the
+  // same phase of the looped script, or nothing moving without one), so the kinetic energy at the
+  // end of a cycle grown past ring_factor times that at the first such cycle end, plus
+  // ring_floor_j, is an instability feeding itself, not the script. It can stay below the
+  // watchdog's energy limit for good (a limit cycle of one particle at ~1.5 m/s was found so,
+  // docs/performance.md round 28), so it is a finding of its own. ring_factor 0: off.
+  double ring_factor = 100.0;  // [-]
+  double ring_floor_j = 1e-7;  // [J] the scene's rest threshold (ScenarioSpec::rest_kinetic_energy)
   // A checkpoint (state and the figures so far) is handed to `checkpoint` every
   // checkpoint_every_s of wall time, between ticks, and at the end or the budget's end unless the
   // soak failed (the caller writes it: soak_checkpoint.h).
@@ -70,6 +79,10 @@ struct SoakReport {
   double cycle_drift_max = 0.0, cycle_drift_rms = 0.0;
   int cycle_drift_particle = -1;
   double cycle_end_kinetic_first = 0.0, cycle_end_kinetic_last = 0.0;  // [J]
+  // the self-excitation check's reference: the first cycle end after the scene's own scripts
+  // (SoakOptions::ring_factor); cycle 0: not reached yet
+  int64_t ring_base_cycle = 0;
+  double ring_base_kinetic = 0.0;  // [J]
   // |V - V_target| / V_target of each volume-constrained surface at the end [-] (name, drift)
   std::vector<std::pair<std::string, double>> end_volume_drift;
 };
@@ -90,6 +103,11 @@ struct SoakCheckpoint {
 SoakReport run_soak(Scene& scene, const Script* script, const SoakOptions& opt,
                     const std::function<void(const SoakReport&)>& progress = {},
                     const SoakCheckpoint* resume = nullptr);
+
+// When the scene's own scenario scripts have moved their last (needle script keys and scripted
+// gun strokes, probe moves, filling schedule) [s]; 0 when it has none. Live commands and a
+// looped soak script are not counted.
+double scripted_motion_end(const ScenarioSpec& spec);
 
 // One line of figures: cycles, peaks, drift (units in the text).
 std::string soak_figures(const SoakReport& r, const Model& m);

@@ -29,7 +29,7 @@ std::string line(const char* fmt, ...) {
 void write_soak_checkpoint(const std::string& path, const SoakCheckpoint& c, const std::string& script) {
   const SoakReport& r = c.report;
   const WatchPeaks& p = r.peaks;
-  std::string out = "prostatesim-soak 1\nscript " + (script.empty() ? std::string("-") : script) + "\n";
+  std::string out = "prostatesim-soak 2\nscript " + (script.empty() ? std::string("-") : script) + "\n";
   out += line("period_ticks %" PRId64, r.period_ticks);
   out += line("cycles %" PRId64, r.cycles);
   out += line("commands %" PRId64 " %" PRId64, r.applied, r.refused);
@@ -41,7 +41,8 @@ void write_soak_checkpoint(const std::string& path, const SoakCheckpoint& c, con
   out += line("min_margin %.17g", p.min_margin);
   out += line("checks %" PRId64, p.checks);
   out += line("cycle_drift %.17g %.17g %d", r.cycle_drift_max, r.cycle_drift_rms, r.cycle_drift_particle);
-  out += line("cycle_end_kinetic %.17g %.17g", r.cycle_end_kinetic_first, r.cycle_end_kinetic_last);
+  out += line("cycle_end_kinetic %.17g %.17g %" PRId64 " %.17g", r.cycle_end_kinetic_first, r.cycle_end_kinetic_last,
+              r.ring_base_cycle, r.ring_base_kinetic);
   out += line("first_cycle_end %zu", c.first_cycle_end.size());
   for (const Vec3& x : c.first_cycle_end) out.append(reinterpret_cast<const char*>(x.data()), 3 * sizeof(double));
   const std::string state = state_file_text(c.state);
@@ -77,7 +78,9 @@ SoakCheckpoint read_soak_checkpoint(const std::string& path, std::string& script
     if (std::sscanf(v.c_str(), f2.c_str(), out..., &used) != n || used != static_cast<int>(v.size()))
       throw InputError(path, ln, key, "expected " + std::to_string(n) + " number(s), got '" + v + "'");
   };
-  if (next("prostatesim-soak") != "1") throw InputError(path, 1, "prostatesim-soak", "not a version 1 soak checkpoint");
+  // version 2 added the self-excitation check's reference cycle to `cycle_end_kinetic`
+  if (next("prostatesim-soak") != "2")
+    throw InputError(path, 1, "prostatesim-soak", "not a version 2 soak checkpoint (version 1: written before Dec 7 2026; start the soak again)");
   script = next("script");
   if (script == "-") script.clear();
   SoakCheckpoint c;
@@ -100,8 +103,11 @@ SoakCheckpoint read_soak_checkpoint(const std::string& path, std::string& script
   scan("checks", "%" SCNd64, 1, &checks);
   p.checks = checks;
   scan("cycle_drift", "%lf %lf %d", 3, &r.cycle_drift_max, &r.cycle_drift_rms, &r.cycle_drift_particle);
-  scan("cycle_end_kinetic", "%lf %lf", 2, &r.cycle_end_kinetic_first, &r.cycle_end_kinetic_last);
-  if (period < 1 || cycles < 0 || applied < 0 || refused < 0 || checks < 0)
+  int64_t ring_cycle = 0;
+  scan("cycle_end_kinetic", "%lf %lf %" SCNd64 " %lf", 4, &r.cycle_end_kinetic_first, &r.cycle_end_kinetic_last, &ring_cycle,
+       &r.ring_base_kinetic);
+  r.ring_base_cycle = ring_cycle;
+  if (period < 1 || cycles < 0 || applied < 0 || refused < 0 || checks < 0 || ring_cycle < 0 || ring_cycle > cycles)
     throw InputError(path, 3, "period_ticks", "counts must not be negative (period at least 1)");
   size_t n = 0;
   scan("first_cycle_end", "%zu", 1, &n);

@@ -26,6 +26,7 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   m.dt = spec.dt;
   m.substeps = spec.substeps;
   m.duration = spec.duration;
+  m.leave_margin = spec.leave_margin;
   m.gravity = spec.gravity;
   m.redistribution = spec.linear_redistribution ? Redistribution::Linear : Redistribution::Gradient;
   m.max_triplets = spec.max_triplets;

@@ -295,7 +295,7 @@ ScenarioSpec parse_scenario_impl(const std::string& text, const std::string& pat
     throw InputError(path, static_cast<int>(e.mark.line) + 1, "", "YAML syntax error: " + e.msg);
   }
   if (!root.IsMap()) throw InputError(path, 1, "", "a scenario file is a YAML mapping (name:, components:, ...)");
-  r.only_keys(root, "", {"name", "solver", "time", "gravity_m_s2", "rest", "materials", "components", "constraints",
+  r.only_keys(root, "", {"name", "solver", "time", "gravity_m_s2", "rest", "watchdog", "materials", "components", "constraints",
                          "overrides", "links", "probe", "filling", "tags", "prostate_zones", "needles"});
   const std::string dir = std::filesystem::path(path).parent_path().string();
   ScenarioSpec s;
@@ -357,6 +357,11 @@ ScenarioSpec parse_scenario_impl(const std::string& text, const std::string& pat
     r.only_keys(t, "rest", {"kinetic_energy_j", "hold_s"});
     if (t["kinetic_energy_j"]) s.rest_kinetic_energy = r.ranged(t["kinetic_energy_j"], "rest.kinetic_energy_j", 1e-15, 1e3, "J");
     if (t["hold_s"]) s.rest_hold = r.non_negative(t["hold_s"], "rest.hold_s");
+  }
+  if (root["watchdog"]) {
+    const YAML::Node w = root["watchdog"];
+    r.only_keys(w, "watchdog", {"leave_margin_mm"});
+    if (w["leave_margin_mm"]) s.leave_margin = r.ranged(w["leave_margin_mm"], "watchdog.leave_margin_mm", 1.0, 10000.0, "mm") * 1e-3;
   }
   const YAML::Node mats = r.require(root, "", "materials");
   if (!mats.IsMap() || mats.size() == 0) r.fail(mats, "materials", "expected a non-empty mapping name -> material");

@@ -7,6 +7,7 @@
 namespace ps {
 
 Watchdog::Watchdog(const Model& m, WatchLimits limits) : lim_(limits) {
+  if (!(lim_.leave_margin > 0)) lim_.leave_margin = m.leave_margin;
   lo_ = Vec3::Constant(1e300);
   hi_ = Vec3::Constant(-1e300);
   for (int p = 0; p < m.particle_count(); ++p) {

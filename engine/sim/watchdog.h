@@ -16,7 +16,8 @@ namespace ps {
 struct WatchLimits {
   double max_speed = 10.0;      // nothing in a surgical scene moves faster (needle clamp 3 m/s) [m/s]
   double volume_drift = 0.05;   // |V - V_target| / V_target of a constrained surface [-]
-  double leave_margin = 0.05;   // beyond the rest bounding box of all particles [m]
+  double leave_margin = 0.0;    // beyond the rest bounding box of all particles [m]; 0: the scene's
+                                // (Model::leave_margin, scenario key watchdog.leave_margin_mm, 50 mm)
 };
 
 struct WatchFinding {

@@ -197,6 +197,9 @@ struct ScenarioSpec {
   static constexpr double kMaxDuration = 1e6;
   double rest_kinetic_energy = 1e-7; // --until-rest threshold on kinetic energy [J]
   double rest_hold = 0.05;         // ... held for this long [s]
+  // watchdog.leave_margin_mm: how far outside the rest bounding box a particle may go before the
+  // watchdog calls it "left the scene" [m] (engine/sim/watchdog.h)
+  double leave_margin = 0.05;
   bool linear_redistribution = false;  // solver.redistribution: linear (paper literal) | gradient
   int max_triplets = 0;            // solver.triplets: all (0) | N best-conditioned per particle
   bool mass_scaling = false;       // solver.mass_scaling: scale inertia to the file's substep

@@ -10,6 +10,8 @@
 #include <cmath>
 
 #include "engine/realtime/lockstep.h"
+#include "engine/scenario/parse_yaml.h"
+#include "engine/sim/scene.h"
 #include "tests/engine/realtime/live_scene.h"
 
 namespace ps {
@@ -154,6 +156,68 @@ TEST(Soak, ASoakStoppedByItsBudgetLeavesACheckpointToGoOnFrom) {
   EXPECT_EQ(second.sim->hash(), straight.sim->hash()) << "bit-identical to one sitting";
   EXPECT_EQ(r2.peaks.max_speed, r3.peaks.max_speed);
   EXPECT_EQ(r2.peaks.checks, r3.peaks.checks);
+}
+
+// The paper's literal redistribution with a raw stiff k_e grows an oscillation at any substep
+// (tests/app/cli_test.cpp, BlowUpExits3NamingParticleAndTime). With the watchdog's speed limit out of
+// the way, the growth shows first as the end-of-cycle kinetic energy: a finding naming the cycle
+// and the fastest particle, before the step's own fault or the energy limit.
+TEST(Soak, AnOscillationGrowingFromCycleToCycleIsAFindingBelowTheWatchdogsLimits) {
+  const ScenarioSpec spec = parse_scenario_text(
+      "name: ring\nsolver: {redistribution: linear}\ntime: {dt_ms: 1, duration_s: 1}\n"
+      "materials:\n  soft: {k_e_n_m: 2.0e4, damping_1_s: 0}\ncomponents:\n"
+      "  - {name: cube, material: soft, spacing_mm: 10, box: {min_mm: [0,0,0], max_mm: [40,40,40]}}\n"
+      "constraints:\n  - fix: {component: cube, region: {box: {min_mm: [-1,-1,-1], max_mm: [41,41,0.5]}}}\n",
+      "ring.yaml");
+  SoakOptions opt;
+  opt.duration = 5.0;  // [s]
+  opt.period = 0.05;   // [s] a cycle without a script
+  opt.limits.max_speed = 1e3;  // [m/s]
+  Scene sc = build_scene(spec);
+  const SoakReport r = run_soak(sc, nullptr, opt);
+  std::printf("ring: %s\nfigures: %s\n", r.fault.c_str(), soak_figures(r, *sc.model).c_str());
+  EXPECT_FALSE(r.held);
+  EXPECT_NE(r.fault.find("self-excited oscillation"), std::string::npos) << r.fault;
+  EXPECT_NE(r.fault.find("particle"), std::string::npos) << r.fault;
+  EXPECT_EQ(r.ring_base_cycle, 1);  // no scenario scripts: the first cycle end is the reference
+  EXPECT_GT(r.cycle_end_kinetic_last, opt.ring_factor * r.ring_base_kinetic + opt.ring_floor_j);
+  // without the detector the same run goes on past that tick
+  SoakOptions off = opt;
+  off.ring_factor = 0.0;
+  Scene again = build_scene(spec);
+  const SoakReport r0 = run_soak(again, nullptr, off);
+  std::printf("without: held %d at tick %lld: %s\n", r0.held, static_cast<long long>(r0.ticks), r0.fault.c_str());
+  EXPECT_GT(r0.ticks, r.ticks);
+}
+
+// A scene's own scenario script is not a self-excitation: the reference is the first cycle end
+// after it. Here a needle driven in at 30 mm/s for 0.6 s, through a soft block with damping:
+// the kinetic energy at the end of cycle 3 (needle still cutting) is far above that at the end of
+// cycle 1 (just touching), and the scene comes to rest once the needle stops.
+TEST(Soak, TheScenesOwnScriptIsNotASelfExcitation) {
+  const ScenarioSpec spec = parse_scenario_text(
+      "name: own_script\ntime: {dt_ms: 1, duration_s: 1}\n"
+      "materials:\n  soft: {model: tet, young_kpa: 10, density_kg_m3: 1000, damping_1_s: 40, k_c_n: 0.3, k_f_n: 0.02}\n"
+      "components:\n  - {name: block, material: soft, spacing_mm: 5, box: {min_mm: [-20,-20,-40], max_mm: [20,20,0]}}\n"
+      "constraints:\n  - fix: {component: block, region: {box: {min_mm: [-21,-21,-41], max_mm: [21,21,-39.5]}}}\n"
+      "needles:\n  puncture_n: {block: 0.5}\n  instruments:\n"
+      "    - {name: n, gauge: 18, length_mm: 100, start_mm: [0.3, 0.2, 5], direction: [0, 0, -1], script: [[0, 0], [0.6, 23]]}\n",
+      "own_script.yaml");
+  EXPECT_DOUBLE_EQ(scripted_motion_end(spec), 0.6);
+  SoakOptions opt;
+  opt.duration = 1.5;  // [s]
+  opt.period = 0.1;    // [s]
+  Scene sc = build_scene(spec);
+  const SoakReport r = run_soak(sc, nullptr, opt);
+  EXPECT_TRUE(r.held) << r.fault;
+  EXPECT_EQ(r.ring_base_cycle, 6);  // t = 0.6 s
+  EXPECT_EQ(r.cycles, 15);
+  // what a reference at the first cycle end would have called growth
+  std::printf("own script: cycle 1 end %.3g J, reference (cycle %lld) %.3g J, last %.3g J; peak %.3g m/s\n",
+              r.cycle_end_kinetic_first, static_cast<long long>(r.ring_base_cycle), r.ring_base_kinetic, r.cycle_end_kinetic_last,
+              r.peaks.max_speed);
+  EXPECT_GT(r.ring_base_kinetic, opt.ring_factor * r.cycle_end_kinetic_first + opt.ring_floor_j);
+  EXPECT_LE(r.cycle_end_kinetic_last, r.ring_base_kinetic);
 }
 
 }  // namespace

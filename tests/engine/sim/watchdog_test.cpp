@@ -45,6 +45,25 @@ TEST(Watchdog, NamesAParticleThatLeftTheScene) {
   EXPECT_EQ(f.particle, 5);
 }
 
+// The margin is the scene's (watchdog.leave_margin_mm, default 50 mm), unless the caller gives one.
+TEST(Watchdog, TheLeaveMarginIsTheScenesOwn) {
+  const auto def = test::compile_text(test::cube_yaml(40, 10));
+  const auto wide = test::compile_text("watchdog: {leave_margin_mm: 200}\n" + test::cube_yaml(40, 10));
+  EXPECT_DOUBLE_EQ(def->leave_margin, 0.05);
+  EXPECT_DOUBLE_EQ(wide->leave_margin, 0.2);
+  for (const auto& m : {def, wide}) {
+    State s = make_state(*m);
+    s.x[5] += Vec3(0.1, 0, 0);  // 100 mm outside (x max of the cube's rest box is 40 mm)
+    const WatchFinding f = Watchdog(*m).check(*m, s);
+    EXPECT_EQ(f.ok, m == wide) << f.describe(*m);
+    WatchLimits narrow;
+    narrow.leave_margin = 0.01;  // [m] the caller's wins
+    EXPECT_EQ(Watchdog(*m, narrow).check(*m, s).what, "left the scene");
+  }
+  EXPECT_THROW(test::compile_text("watchdog: {leave_margin_mm: 0}\n" + test::cube_yaml(40, 10)), InputError);
+  EXPECT_THROW(test::compile_text("watchdog: {margin_mm: 100}\n" + test::cube_yaml(40, 10)), InputError);
+}
+
 TEST(Watchdog, SeesNaNAndVolumeDrift) {
   const auto m = test::compile_text(test::cube_yaml(40, 10, true));
   State s = make_state(*m);
