@@ -33,9 +33,10 @@ void write_contact_sheet(const std::string& path, const ContactSheetInput& in) {
   const int tw = in.thumbs.empty() ? 640 : in.thumbs[0].w, th = in.thumbs.empty() ? 360 : in.thumbs[0].h;
   const int pad = 8, label = 22;
   const int W = 2 * tw + 3 * pad;
-  const int plot_h = 480;
+  const bool needle = !in.depth_mm.empty(), timed = !needle && !in.over_time.t_s.empty();
+  const int plot_h = needle || timed ? 480 : 0;
   const int rows = in.thumbs.empty() ? 0 : (static_cast<int>(in.thumbs.size()) + 1) / 2;
-  const int H = rows * (th + label + pad) + pad + plot_h + pad;
+  const int H = rows * (th + label + pad) + pad + (plot_h > 0 ? plot_h + pad : 0);
   plot::Canvas sheet(W, H, {24, 26, 30});
   for (size_t k = 0; k < in.thumbs.size(); ++k) {
     const Thumb& t = in.thumbs[k];
@@ -49,23 +50,34 @@ void write_contact_sheet(const std::string& path, const ContactSheetInput& in) {
         sheet.fill_rect(ox + x, oy + label + y, ox + x + 1, oy + label + y + 1, {p[0], p[1], p[2]});
       }
   }
-  plot::Chart ch;
-  ch.title = in.title + ": needle force versus insertion depth";
-  ch.x.label = "insertion depth [mm]";
-  ch.y.label = "axial force on the needle [N]";
-  plot::Series s;
-  // the curve is each tick's mean; an event marker is the peak force up to that event, which
-  // during a gun stroke (~1 mm per tick) stands well above the tick's mean
-  s.label = "force (tick mean)";
-  s.x = in.depth_mm;
-  s.y = in.force_n;
-  s.color = plot::palette(0);
-  if (s.x.empty()) {  // no needle in the scene: an empty, labelled plot
-    s.x = {0.0, 1.0};
-    s.y = {0.0, 0.0};
-    s.label = "no needle";
+  if (plot_h == 0) {  // no instrument readout to plot
+    ps::write_png_atomic(path, sheet.width(), sheet.height(), 3, sheet.pixels().data());
+    return;
   }
-  ch.series.push_back(s);
+  plot::Chart ch;
+  if (timed) {
+    ch.title = in.title + ": " + in.over_time.what + " versus time";
+    ch.x.label = "time [s]";
+    ch.y.label = in.over_time.y_label;
+    plot::Series s;
+    s.label = in.over_time.what;
+    s.x = in.over_time.t_s;
+    s.y = in.over_time.y;
+    s.color = plot::palette(0);
+    ch.series.push_back(s);
+  } else {
+    ch.title = in.title + ": needle force versus insertion depth";
+    ch.x.label = "insertion depth [mm]";
+    ch.y.label = "axial force on the needle [N]";
+    plot::Series s;
+    // the curve is each tick's mean; an event marker is the peak force up to that event, which
+    // during a gun stroke (~1 mm per tick) stands well above the tick's mean
+    s.label = "force (tick mean)";
+    s.x = in.depth_mm;
+    s.y = in.force_n;
+    s.color = plot::palette(0);
+    ch.series.push_back(s);
+  }
   if (!in.marks.empty()) {
     plot::Series m;
     m.label = "puncture / bone / core (peak force)";

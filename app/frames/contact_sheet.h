@@ -1,5 +1,7 @@
 // The run at a glance: one PNG with four frames (start, two in between, end) above the
-// force-versus-depth plot of the active needle with its punctures marked.
+// force-versus-depth plot of the active needle with its punctures marked; in a scene without a
+// needle, the plot of what its instruments did over time (the bladder's volume as it fills, or
+// the probe's contact force), and no plot at all when there is none.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -22,6 +24,11 @@ struct ContactSheetInput {
   std::vector<Thumb> thumbs;                        // up to 4
   std::vector<double> depth_mm, force_n;            // active needle samples
   std::vector<std::pair<double, double>> marks;     // (depth mm, force N): punctures, bone, core
+  // without needle samples: one instrument readout against time (empty: no plot)
+  struct OverTime {
+    std::string what, y_label;                      // "filled volume", "target volume of the filled organ [ml]"
+    std::vector<double> t_s, y;
+  } over_time;
 };
 
 // Writes the sheet atomically (throws InputError on failure).

@@ -54,6 +54,7 @@ struct FrameRecorder::Impl {
   std::string events;
   std::vector<std::string> tool_names;
   std::vector<double> t, depth, force;                     // active needle samples
+  std::vector<double> fill_t, fill_ml, probe_t, probe_n;   // first filling's target volume, first probe's contact force
   std::vector<std::pair<double, double>> marks;            // (depth mm, force N) at punctures
   std::vector<std::string> mark_labels;
   std::vector<Thumb> thumbs;                               // contact sheet frames
@@ -109,6 +110,19 @@ void FrameRecorder::observe(const Snapshot& snap) {
   if (snap.faulted) {
     std::snprintf(line, sizeof line, "t=%8.4f s  FAULT  %s\n", snap.time, snap.fault.data());
     im.events += line;
+  }
+  bool fill_seen = false, probe_seen = false;
+  for (const ToolReadout& t : snap.tools) {
+    if (t.kind == ToolReadout::Filling && !fill_seen) {
+      im.fill_t.push_back(snap.time);
+      im.fill_ml.push_back(t.value * 1e6);
+      fill_seen = true;
+    }
+    if (t.kind == ToolReadout::Probe && !probe_seen) {
+      im.probe_t.push_back(snap.time);
+      im.probe_n.push_back(t.force);
+      probe_seen = true;
+    }
   }
   for (const ToolReadout& t : snap.tools)
     if (t.kind == ToolReadout::Needle && t.active && t.depth > 0.0) {
@@ -197,6 +211,11 @@ FrameSummary FrameRecorder::finish(const std::string& extra_json) {
   in.depth_mm = im.depth;
   in.force_n = im.force;
   in.marks = im.marks;
+  // no needle samples: the filling's volume if it changed, else the probe's contact force
+  const bool filled = !im.fill_ml.empty() && *std::max_element(im.fill_ml.begin(), im.fill_ml.end()) >
+                                                 *std::min_element(im.fill_ml.begin(), im.fill_ml.end());
+  if (filled) in.over_time = {"filled volume", "target volume of the filled organ [ml]", im.fill_t, im.fill_ml};
+  else if (!im.probe_t.empty()) in.over_time = {"probe contact force", "tissue force on the probe [N]", im.probe_t, im.probe_n};
   write_contact_sheet((dir / "contact_sheet.png").string(), in);
 
   FrameSummary s;

@@ -68,6 +68,33 @@ TEST(ReplayFrames, WritesFramesLogSummaryAndSheetIdenticallyTwice) {
   fs::remove_all(b);
 }
 
+// The contact sheet's plot shows what the scene's instruments did: the needle's force against
+// depth, or without a needle the filling's volume (or the probe's force) against time, and no plot
+// in a scene without instruments (an empty "no needle" chart was drawn there before).
+TEST(ReplayFrames, TheContactSheetPlotsWhatTheScenesInstrumentsDid) {
+  auto sheet_size = [](const std::string& scene, const std::string& name, double duration, int& w, int& h) {
+    const std::string dir = tmp(name);
+    fs::remove_all(dir);
+    const std::string script = dir + "_script.yaml";
+    std::ofstream(script) << "scenario: " << name << "\nduration_s: " << duration << "\ntimeline: []\n";
+    const std::string cmd = std::string("cd " PROSTATESIM_SOURCE_DIR " && " PROSTATESIM_BINARY " replay ") + scene + " --script " +
+                            script + " --out " + dir + " --size 160x90 --fps 5 --views lateral > /dev/null 2>&1";
+    const int rc = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 0) << cmd;
+    int n = 0;
+    ASSERT_TRUE(stbi_info((fs::path(dir) / "contact_sheet.png").string().c_str(), &w, &h, &n));
+    fs::remove_all(dir);
+    fs::remove(script);
+  };
+  int fw = 0, fh = 0, cw = 0, ch = 0;
+  sheet_size("config/bladder_filling.yaml", "bladder_filling", 0.8, fw, fh);  // the filling starts at 0.5 s
+  sheet_size("config/validation/cube_bonded.yaml", "cube_bonded", 0.8, cw, ch);
+  // two rows of two 160 x 90 frames with their captions (30 px) and 8 px padding; the plot 480 + 8
+  EXPECT_EQ(ch, 2 * (90 + 22 + 8) + 8);
+  EXPECT_EQ(fh, ch + 480 + 8);
+  EXPECT_EQ(fw, cw);
+}
+
 // Issue 12 item 3: `--views us_transverse,us_sagittal` writes the simulated TRUS of every frame
 // (512 x 512 grayscale), byte-identical on two runs, and different frames differ only where the
 // scene moved (the probe is being placed: the images change between the first and last frame).
