@@ -218,26 +218,42 @@ void force_plot(const Ui& ui, ImVec2 size) {
   const ImVec2 p1(p0.x + size.x, p0.y + size.y);
   dl->AddRectFilled(p0, p1, IM_COL32(20, 22, 26, 255));
   const float ml = 34, mb = 18;
-  float dmax = 10.0f, fmax = 1.0f;
+  // axes: depth 0..dmax on steps of a quarter (10, 20, 40, ... mm), force from fmin (0, or below
+  // when the needle is pulled back: the shaft's friction points the other way) to fmax [N]
+  float dmax = 10.0f, fmax = 1.0f, fmin = 0.0f;
   for (float d : ui.depth_mm) dmax = std::max(dmax, d);
-  for (float f : ui.force_n) fmax = std::max(fmax, std::abs(f));
-  dmax = std::ceil(dmax / 10.0f) * 10.0f;
-  fmax = std::ceil(fmax);
+  for (float f : ui.force_n) {
+    fmax = std::max(fmax, f);
+    fmin = std::min(fmin, f);
+  }
+  dmax = dmax <= 10.0f ? 10.0f : std::ceil(dmax / 20.0f) * 20.0f;
+  // four force steps of a round size, from a multiple of it: 0 is a grid line whenever in range
+  for (float step : {0.25f, 0.5f, 1.0f, 2.0f, 5.0f, 10.0f, 20.0f, 50.0f}) {
+    const float lo = std::floor(fmin / step) * step;
+    if (lo + 4 * step >= fmax || step == 50.0f) {
+      fmin = lo;
+      fmax = lo + 4 * step;
+      break;
+    }
+  }
   auto X = [&](float d) { return p0.x + ml + (size.x - ml - 6) * d / dmax; };
-  auto Y = [&](float f) { return p1.y - mb - (size.y - mb - 6) * f / fmax; };
+  auto Y = [&](float f) { return p1.y - mb - (size.y - mb - 6) * (f - fmin) / (fmax - fmin); };
   for (int k = 0; k <= 4; ++k) {
-    const float d = dmax * k / 4, f = fmax * k / 4;
+    const float d = dmax * k / 4, f = fmin + (fmax - fmin) * k / 4;
     dl->AddLine(ImVec2(X(d), p0.y + 4), ImVec2(X(d), p1.y - mb), IM_COL32(60, 62, 70, 255));
     dl->AddLine(ImVec2(p0.x + ml, Y(f)), ImVec2(p1.x - 4, Y(f)), IM_COL32(60, 62, 70, 255));
     char b[16];
-    std::snprintf(b, sizeof b, "%.0f", d);
+    std::snprintf(b, sizeof b, "%.3g", d);
     dl->AddText(ImVec2(X(d) - 6, p1.y - mb + 2), IM_COL32(200, 200, 200, 255), b);
-    std::snprintf(b, sizeof b, "%.0f", f);
+    std::snprintf(b, sizeof b, "%.3g", f);
     dl->AddText(ImVec2(p0.x + 4, Y(f) - 7), IM_COL32(200, 200, 200, 255), b);
   }
+  if (fmin < 0) dl->AddLine(ImVec2(p0.x + ml, Y(0)), ImVec2(p1.x - 4, Y(0)), IM_COL32(120, 122, 130, 255));
+  dl->PushClipRect(ImVec2(p0.x + ml, p0.y), ImVec2(p1.x, p1.y - mb), true);  // the curve stays in the plot
   for (size_t k = 1; k < ui.depth_mm.size(); ++k)
     dl->AddLine(ImVec2(X(ui.depth_mm[k - 1]), Y(ui.force_n[k - 1])), ImVec2(X(ui.depth_mm[k]), Y(ui.force_n[k])),
                 IM_COL32(255, 150, 40, 255), 2.0f);
+  dl->PopClipRect();
   dl->AddText(ImVec2(p0.x + ml + 4, p0.y + 4), IM_COL32(230, 230, 230, 255), "force [N] vs depth [mm]");
   ImGui::Dummy(size);
 }
@@ -503,19 +519,30 @@ int run_window(app::RunSession& run) {
       ImGui::SetNextWindowPos(ImVec2(ds.x - kRightPanel, 0));
       ImGui::SetNextWindowSize(ImVec2(kRightPanel, ds.y));
       ImGui::Begin("Read-outs", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
-      if (ImGui::CollapsingHeader("Force versus depth", ImGuiTreeNodeFlags_DefaultOpen)) force_plot(ui, ImVec2(kRightPanel - 20, 190));
+      if (ImGui::CollapsingHeader("Force versus depth", ImGuiTreeNodeFlags_DefaultOpen)) {
+        const bool needles = std::any_of(snap.tools.begin(), snap.tools.end(), [](const ToolReadout& r) { return r.kind == ToolReadout::Needle; });
+        if (needles) force_plot(ui, ImVec2(kRightPanel - 20, 190));
+        else ImGui::TextDisabled("no needle in this scene");
+      }
       if (ImGui::CollapsingHeader("Ultrasound", ImGuiTreeNodeFlags_DefaultOpen)) us_panel(us, s, snap, kRightPanel - 20);
       if (ImGui::CollapsingHeader("Metrics", ImGuiTreeNodeFlags_DefaultOpen)) metrics_panel(s, snap);
+      for (const ToolReadout& r : snap.tools)  // a filling (bladder_filling.yaml): its target volume as it fills
+        if (r.kind == ToolReadout::Filling && ImGui::CollapsingHeader("Filling", ImGuiTreeNodeFlags_DefaultOpen))
+          ImGui::Text("target volume of the filled organ %.1f ml", r.value * 1e6);
       if (ImGui::CollapsingHeader("Timing", ImGuiTreeNodeFlags_DefaultOpen)) {
         const LoopTiming t = s.timing();
         ImGui::Text("sim time %.3f s   tick %lld", snap.time, static_cast<long long>(snap.tick));
-        ImGui::Text("tick rate %.0f Hz   real-time factor %.2f%s", t.achieved_hz, t.realtime_factor, t.slow_motion ? " (slow motion)" : "");
-        ImGui::Text("tick compute p50 %.2f ms  p99 %.2f ms (whole run %.2f ms)", t.tick_p50_ms, t.tick_p99_ms, t.run_tick_p99_ms);
+        // LoopTiming::slow_motion: the loop fell more than two ticks behind in the window; it is slow
+        // motion to the trainee only when the window's factor fell short too (else it caught up)
+        const bool slow = t.slow_motion && t.realtime_factor < 0.98 * t.target_factor;
+        ImGui::Text("tick rate %.0f Hz   real-time factor %.2f%s", t.achieved_hz, t.realtime_factor,
+                    slow ? " (slow motion)" : t.slow_motion ? " (caught up)" : "");
+        ImGui::Text("tick compute p50 %.2f, p99 %.2f ms (run p99 %.2f)", t.tick_p50_ms, t.tick_p99_ms, t.run_tick_p99_ms);
         ImGui::Text("frame %.1f ms (%.0f fps)", ui.frame_ms, ui.frame_ms > 0 ? 1000.0 / ui.frame_ms : 0.0);
       }
       if (ImGui::CollapsingHeader("Events", ImGuiTreeNodeFlags_DefaultOpen)) {
         ImGui::BeginChild("log", ImVec2(0, 0), true);
-        for (const auto& l : ui.log) ImGui::TextUnformatted(l.c_str());
+        for (const auto& l : ui.log) ImGui::TextWrapped("%s", l.c_str());  // the depth and force at the end stay in view
         if (ImGui::GetScrollY() >= ImGui::GetScrollMaxY()) ImGui::SetScrollHereY(1.0f);
         ImGui::EndChild();
       }
