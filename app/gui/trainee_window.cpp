@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "app/gui/metrics_panel.h"
+#include "app/gui/plot_axes.h"
 #include "app/gui/session.h"
 #include "app/gui/ultrasound_worker.h"
 #include "engine/io/png_write.h"
@@ -226,16 +227,10 @@ void force_plot(const Ui& ui, ImVec2 size) {
     fmax = std::max(fmax, f);
     fmin = std::min(fmin, f);
   }
-  dmax = dmax <= 10.0f ? 10.0f : std::ceil(dmax / 20.0f) * 20.0f;
-  // four force steps of a round size, from a multiple of it: 0 is a grid line whenever in range
-  for (float step : {0.25f, 0.5f, 1.0f, 2.0f, 5.0f, 10.0f, 20.0f, 50.0f}) {
-    const float lo = std::floor(fmin / step) * step;
-    if (lo + 4 * step >= fmax || step == 50.0f) {
-      fmin = lo;
-      fmax = lo + 4 * step;
-      break;
-    }
-  }
+  dmax = depth_axis_max(dmax);
+  const ForceAxis fa = force_axis(fmin, fmax);  // four round steps: 0 is a grid line when in range
+  fmin = fa.lo;
+  fmax = fa.hi();
   auto X = [&](float d) { return p0.x + ml + (size.x - ml - 6) * d / dmax; };
   auto Y = [&](float f) { return p1.y - mb - (size.y - mb - 6) * (f - fmin) / (fmax - fmin); };
   for (int k = 0; k <= 4; ++k) {
