@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <unistd.h>
@@ -98,7 +99,7 @@ void FrameRecorder::observe(const Snapshot& snap) {
   for (const SnapshotEvent& e : snap.events) {
     const char* tool = e.tool >= 0 && e.tool < static_cast<int>(im.tool_names.size()) ? im.tool_names[e.tool].c_str() : "-";
     std::snprintf(line, sizeof line, "t=%8.4f s  %-10s %-60s depth %6.1f mm  force %6.2f N\n", e.time, tool, e.text.data(),
-                  e.depth * 1e3, e.force);
+                  e.depth * 1e3, std::abs(e.force) < 0.005 ? 0.0 : e.force);  // not "-0.00 N"
     im.events += line;
     const std::string text = e.text.data();
     if (text.find("puncture") != std::string::npos || text.find("bone") != std::string::npos ||

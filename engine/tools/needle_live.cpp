@@ -330,8 +330,9 @@ int64_t NeedleTool::events_since(int64_t cursor, int tool_index, std::vector<Sna
     const char* who = e.needle >= 0 && e.needle < count() ? needles_[e.needle]->spec.name.c_str() : "needle";
     const char* comp = e.component >= 0 && e.component < static_cast<int>(model_->components.size())
                            ? model_->components[e.component].name.c_str() : "";
-    std::snprintf(se.text.data(), se.text.size(), "%s: %s %s at %.1f mm, %.2f N", who, needle_event_name(e.kind), comp,
-                  e.depth * 1e3, e.force);
+    const double shown = std::abs(e.force) < 0.005 ? 0.0 : e.force;  // [N] a first contact's ~0 N, not "-0.00 N"
+    std::snprintf(se.text.data(), se.text.size(), "%s: %s%s%s at %.1f mm, %.2f N", who, needle_event_name(e.kind), *comp ? " " : "",
+                  comp, e.depth * 1e3, shown);
     out.push_back(se);
   }
   return total;
