@@ -375,8 +375,9 @@ StressResult soak(const ScenarioSpec& spec, const StressOptions& opt) {
   r.tried = fmt("the scene for %.6g s of simulated time", opt.soak_s) +
             (script ? ", looping its script " + script_file + fmt(" (%.4g s a cycle)", script->duration)
                     : std::string(", no script (its own instrument scripts only)")) +
-            "; watchdog every tick: NaN, energy (10 m/s), volume drift 5%, particles 50 mm outside the scene" +
-            fmt("; at each cycle's end: kinetic energy within %g x the first cycle end's after the scene's own scripts + %g J "
+            fmt("; watchdog every tick: NaN, energy (10 m/s), volume drift 5%%, particles %g mm outside the scene",
+                sc.model->leave_margin * 1e3) +
+            fmt("; at each cycle's end: kinetic energy within %g x that at the first cycle end after the scene's own scripts + %g J "
                 "(self-excitation)",
                 so.ring_factor, so.ring_floor_j);
   const Model& m = *sc.model;

@@ -55,29 +55,26 @@ void write_contact_sheet(const std::string& path, const ContactSheetInput& in) {
     return;
   }
   plot::Chart ch;
+  plot::Series s;
+  s.color = plot::palette(0);
   if (timed) {
     ch.title = in.title + ": " + in.over_time.what + " versus time";
     ch.x.label = "time [s]";
     ch.y.label = in.over_time.y_label;
-    plot::Series s;
     s.label = in.over_time.what;
     s.x = in.over_time.t_s;
     s.y = in.over_time.y;
-    s.color = plot::palette(0);
-    ch.series.push_back(s);
   } else {
     ch.title = in.title + ": needle force versus insertion depth";
     ch.x.label = "insertion depth [mm]";
     ch.y.label = "axial force on the needle [N]";
-    plot::Series s;
     // the curve is each tick's mean; an event marker is the peak force up to that event, which
     // during a gun stroke (~1 mm per tick) stands well above the tick's mean
     s.label = "force (tick mean)";
     s.x = in.depth_mm;
     s.y = in.force_n;
-    s.color = plot::palette(0);
-    ch.series.push_back(s);
   }
+  ch.series.push_back(s);
   if (!in.marks.empty()) {
     plot::Series m;
     m.label = "puncture / bone / core (peak force)";

@@ -112,18 +112,17 @@ void FrameRecorder::observe(const Snapshot& snap) {
     std::snprintf(line, sizeof line, "t=%8.4f s  FAULT  %s\n", snap.time, snap.fault.data());
     im.events += line;
   }
-  bool fill_seen = false, probe_seen = false;
-  for (const ToolReadout& t : snap.tools) {
-    if (t.kind == ToolReadout::Filling && !fill_seen) {
-      im.fill_t.push_back(snap.time);
-      im.fill_ml.push_back(t.value * 1e6);
-      fill_seen = true;
-    }
-    if (t.kind == ToolReadout::Probe && !probe_seen) {
-      im.probe_t.push_back(snap.time);
-      im.probe_n.push_back(t.force);
-      probe_seen = true;
-    }
+  auto first_of = [&](ToolReadout::Kind k) {
+    const auto it = std::find_if(snap.tools.begin(), snap.tools.end(), [k](const ToolReadout& t) { return t.kind == k; });
+    return it == snap.tools.end() ? nullptr : &*it;
+  };
+  if (const ToolReadout* f = first_of(ToolReadout::Filling)) {
+    im.fill_t.push_back(snap.time);
+    im.fill_ml.push_back(f->value * 1e6);
+  }
+  if (const ToolReadout* p = first_of(ToolReadout::Probe)) {
+    im.probe_t.push_back(snap.time);
+    im.probe_n.push_back(p->force);
   }
   for (const ToolReadout& t : snap.tools)
     if (t.kind == ToolReadout::Needle && t.active && t.depth > 0.0) {

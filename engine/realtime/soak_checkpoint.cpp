@@ -108,7 +108,7 @@ SoakCheckpoint read_soak_checkpoint(const std::string& path, std::string& script
        &r.ring_base_kinetic);
   r.ring_base_cycle = ring_cycle;
   if (period < 1 || cycles < 0 || applied < 0 || refused < 0 || checks < 0 || ring_cycle < 0 || ring_cycle > cycles)
-    throw InputError(path, 3, "period_ticks", "counts must not be negative (period at least 1)");
+    throw InputError(path, 3, "period_ticks", "counts must not be negative (period at least 1, reference cycle at most cycles)");
   size_t n = 0;
   scan("first_cycle_end", "%zu", 1, &n);
   if (n > (text.size() - pos) / (3 * sizeof(double))) throw InputError(path, ln, "first_cycle_end", "more positions than the file holds");
