@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "engine/realtime/snapshot.h"
+#include "engine/contract/snapshot.h"
 #include "render/gl_api.h"
 #include "render/primitives.h"
 #include "render/render_error.h"

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/contract/snapshot.h"
 #include "engine/draw/draw_sink.h"
-#include "engine/realtime/snapshot.h"
 #include "render/camera.h"
 #include "render/render_scene.h"
 

@@ -7,7 +7,7 @@
 
 #include <cstdlib>
 
-#include "engine/realtime/snapshot.h"
+#include "engine/contract/snapshot.h"
 #include "render/headless_context.h"
 #include "render/render_error.h"
 
