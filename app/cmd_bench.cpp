@@ -309,8 +309,8 @@ void add_bench_command(CLI::App& app, Runner& run) {
       const double ref_spacing = a->quick ? 4.0 : 3.0;
       const std::vector<int> factors = a->quick ? std::vector<int>{1} : std::vector<int>{1, 2};
       // simulated time per scene for the real-time figures: the whole script (biopsy 3 s,
-      // brachytherapy 6.5 s), at most 10 s. A p99 needs thousands of ticks: over the 50 ticks
-      // --quick used to run, it was the slowest one, the first tick's setup included.
+      // brachytherapy 6.5 s), at most 10 s. A p99 needs thousands of ticks: over 50 it would be the
+      // slowest one, the first tick's setup included.
       const double rt_seconds = 10.0;
       const int work = 3 + 1 + static_cast<int>(models.size() * spacings.size() * factors.size());
       Progress progress("bench", work);
