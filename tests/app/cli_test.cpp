@@ -66,9 +66,9 @@ TEST(Cli, MissingFileAndBadOptionExit2) {
   EXPECT_EQ(run("no-such-command").code, 2);
 }
 
-// Numbers on the command line get the scenario's own bounds. `--duration 1e300` used to overflow
-// the tick count and "succeed" with 0 steps, exit 0; `--factor 1e-300` ran forever; the old
-// message printed the upper bound as 309 digits of DBL_MAX.
+// Numbers on the command line get the scenario's own bounds: unbounded, `--duration 1e300` would
+// overflow the tick count and "succeed" with 0 steps, `--factor 1e-300` would run forever, and a
+// bound printed as DBL_MAX would read as 309 digits.
 TEST(Cli, OutOfRangeNumbersExit2NamingTheOptionAndItsBounds) {
   const fs::path out = temp_dir("range");
   const std::string scen = kSource + "/config/demo_cube.yaml";
