@@ -96,8 +96,7 @@ TEST(Cli, OutOfRangeNumbersExit2NamingTheOptionAndItsBounds) {
 }
 
 // An output path that cannot be written is bad input, found before any work: exit 2 naming the
-// option. Before, `bench --json /missing/x.json` ran its whole bench (~20 s) and then reported an
-// "internal error ... a bug in ProstateSim", exit 4; `stress --json` and `--csv` did the same.
+// option, not an internal error after a whole bench (~20 s) or stress run.
 TEST(Cli, OutputPathsThatCannotBeWrittenExit2NamingTheOptionBeforeAnyRun) {
   const fs::path out = temp_dir("outputs");
   const std::string missing = (out / "no_such_folder" / "x.json").string();
