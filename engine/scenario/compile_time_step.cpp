@@ -220,8 +220,8 @@ std::string partition_tet_rates(Model& m, double margin) {
 // partition's own test on the proxy is >=, a = 1.1 keeps it clear of rounding), raised along a
 // ladder until the power-iteration estimate of the slow group admits the tick. A particle counts
 // as slow only where its proxy does: counting more (the proxy's need relaxed, relying on the
-// estimate alone) blew up the default scenes within 0.3 s at a 2 ms tick, at a wall's vertex and
-// in the fat (docs/performance.md, round 23). A particle that ends in no slow element keeps its
+// estimate alone) blows up the default scenes within 0.3 s at a 2 ms tick, at a wall's vertex and
+// in the fat (the impulse method's resonance). A particle that ends in no slow element keeps its
 // own mass. Returns false (the model as it came in) when no rung admits the tick.
 bool partition_tet_rates_with_inertia(Model& m, double margin, double max_factor, std::vector<std::string>& notes) {
   TetElements& te = m.tets;
@@ -242,7 +242,8 @@ bool partition_tet_rates_with_inertia(Model& m, double margin, double max_factor
   std::vector<uint8_t> slow(n, 0);
   // Rungs, tried in order until the slow group's estimate admits the tick: first the bound's gate
   // at 1.1 with the inertia sized on the diagonal, amplified step by step (at most max_factor);
-  // then the gate narrowed with the inertia sized on the bound (the form used until Dec 2026).
+  // then the gate narrowed with the inertia sized on the bound (a last resort: the bound reads the
+  // fat's nodal pressure ~8x stiffer than the diagonal, so it adds far more inertia).
   struct Rung {
     double gate, size;
     bool on_diagonal;
@@ -325,7 +326,7 @@ void compile_time_step(const ScenarioSpec& spec, Model& m, CompileWork& work) {
   const double h = m.dt / m.substeps;
   if (h > 0.9 * m.stable_dt_estimate) {
     // In double first: a stiffness like young_kpa 1e9 gives a stable step so small that the count
-    // overflows an int (it used to wrap to -2147483648 and the run "succeeded" with 0 steps).
+    // overflows an int (wrapped, it would run "successfully" with 0 steps).
     const double need_d = m.dt / (0.9 * m.stable_dt_estimate);
     if (!(need_d <= kMaxSubstepsPerTick)) {
       const MaterialSpec* stiff = nullptr;

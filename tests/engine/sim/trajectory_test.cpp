@@ -1,5 +1,5 @@
 // The fast modes against the converged reference (engine/sim/trajectory.h, docs/performance.md
-// "Error against the reference"), reduced to seconds: config/biopsy.yaml with its needle driven
+// "Accuracy of the fast settings"), reduced to seconds: config/biopsy.yaml with its needle driven
 // into the rectal wall, the plain explicit scheme at twice the substeps as reference, held to the
 // issue's budget: needle force RMS error <= 10 % of its peak, prostate and target within 0.5 mm,
 // volumes exact. Two fast modes: solver.multirate on the shipped tet scene at the file's
