@@ -1,5 +1,6 @@
 #include "app/labelmap/label_surface.h"
 
+#include <teem/gage.h>
 #include <teem/limn.h>
 #include <teem/nrrd.h>
 #include <teem/seek.h>
@@ -102,13 +103,16 @@ TriMesh label_surface(const LabelVolume& v, const std::vector<int>& labels, cons
       seekExtract(sc.get(), pld.get()))
     throw std::runtime_error("isosurface: " + biff_text(SEEK));
 
-  // seek's vertices are in the smoothed grid's index space (unit spacing, node centred)
+  // seek's vertices are in its gageShape's world space: back to the grid's index space (WtoI)
+  const double* W = sc->shape->WtoI;
   TriMesh m;
   m.vertices.reserve(pld->xyzwNum);
   for (unsigned p = 0; p < pld->xyzwNum; ++p) {
     const float* q = pld->xyzw + 4 * p;
-    const double w = q[3] != 0.0f ? q[3] : 1.0;
-    m.vertices.push_back(v.ras_m(q[0] / w + lo[0] - pad[0], q[1] / w + lo[1] - pad[1], q[2] / w + lo[2] - pad[2]));
+    double idx[4];
+    for (int r = 0; r < 4; ++r) idx[r] = W[4 * r] * q[0] + W[4 * r + 1] * q[1] + W[4 * r + 2] * q[2] + W[4 * r + 3] * q[3];
+    const double w = idx[3] != 0.0 ? idx[3] : 1.0;
+    m.vertices.push_back(v.ras_m(idx[0] / w + lo[0] - pad[0], idx[1] / w + lo[1] - pad[1], idx[2] / w + lo[2] - pad[2]));
   }
   unsigned base = 0;
   for (unsigned p = 0; p < pld->primNum; ++p) {
