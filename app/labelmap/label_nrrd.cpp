@@ -71,7 +71,12 @@ LabelVolume read_label_volume_nrrd(const std::string& path) {
   } else {
     field = "spacings";
     v.index_to_ras_m.setZero();
-    for (int a = 0; a < 3; ++a) v.index_to_ras_m(a, a) = n->axis[first + a].spacing * 1e-3;
+    for (int a = 0; a < 3; ++a) {
+      const double sp = n->axis[first + a].spacing;
+      if (!std::isfinite(sp) || sp <= 0.0)
+        throw InputError(path, 0, field, std::string("voxel size along ") + "ijk"[a] + " is " + std::to_string(sp) + " (must be a positive number)");
+      v.index_to_ras_m(a, a) = sp * 1e-3;
+    }
   }
   check_spacing(v, field);
 
