@@ -30,6 +30,7 @@
 #include "engine/io/png_write.h"
 #include "engine/realtime/scripted_run.h"
 #include "engine/scenario/compile.h"
+#include "engine/scenario/material_models.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/util/atomic_file.h"
 #include "engine/util/error.h"
@@ -356,7 +357,7 @@ void add_bench_command(CLI::App& app, Runner& run) {
         if (c.name == "prostate") {
           ship_spacing = c.spacing * 1e3;
           for (const auto& m : biopsy.materials)
-            if (m.name == c.material) ship_model = m.tet_model ? "tet" : m.strain_model ? "strain" : "paper";
+            if (m.name == c.material) ship_model = material_model(m.model).name;
         }
       std::vector<Config> cs;
       for (const auto& m : models)

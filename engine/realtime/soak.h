@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/realtime/command.h"
+#include "engine/contract/command.h"
 #include "engine/realtime/state_file.h"
 #include "engine/realtime/script.h"
 #include "engine/sim/scene.h"
