@@ -67,7 +67,7 @@ Server::Server(const Scene& scene, PhysicsLoop& loop, const ServerOptions& opt) 
     throw InputError("", 0, "--igtl-port", "cannot listen on TCP port " + std::to_string(opt.port) + " (in use?)");
   port_ = impl_->server->GetServerPort();
   if (opt.port != 0) port_ = opt.port;
-  loop.add_snapshot_tap(&impl_->tap);
+  loop.add_source(&impl_->tap);
 }
 
 Server::~Server() { stop(); }

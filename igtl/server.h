@@ -36,8 +36,8 @@ struct ServerOptions {
 
 class Server {
  public:
-  // Opens the port (InputError naming --igtl-port when it cannot) and registers its snapshot
-  // tap with the loop: construct before loop.start().
+  // Opens the port (InputError naming --igtl-port when it cannot) and adds its snapshot tap
+  // (engine/realtime/snapshot_tap.h) to the loop's sources: construct before loop.start().
   Server(const Scene& scene, PhysicsLoop& loop, const ServerOptions& opt);
   ~Server();                       // stops
   Server(const Server&) = delete;

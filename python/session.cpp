@@ -5,7 +5,7 @@
 #include "engine/metrics/metrics_json.h"
 #include "engine/metrics/metrics_options.h"
 #include "engine/metrics/score.h"
-#include "engine/realtime/script.h"
+#include "engine/realtime/script_entry.h"
 #include "engine/realtime/state_file.h"
 #include "engine/tools/needle.h"
 #include "engine/ultrasound/from_simulation.h"

@@ -158,7 +158,6 @@ void PhysicsLoop::publish() {
   const size_t carried = unread_.size();
   b.events.assign(unread_.begin(), unread_.end());  // capacity reserved: no allocation
   runner_.fill_snapshot(b, true, false, kEventCapacity);
-  for (SnapshotTap* tap : taps_) tap->offer(b);
   unread_.insert(unread_.end(), b.events.begin() + static_cast<std::ptrdiff_t>(carried), b.events.end());
   if (unread_.size() > kMaxUnread) unread_.erase(unread_.begin(), unread_.end() - static_cast<std::ptrdiff_t>(kMaxUnread));
   const uint64_t newest = b.events.empty() ? published_seq_ : b.events.back().seq;

@@ -25,7 +25,6 @@
 #include <thread>
 
 #include "engine/contract/snapshot.h"
-#include "engine/realtime/snapshot_tap.h"
 #include "engine/realtime/tick_runner.h"
 #include "engine/realtime/triple_buffer.h"
 
@@ -84,9 +83,6 @@ class PhysicsLoop {
     runner_.spread_hashes(o != nullptr && every > 0);
   }
   void inject_fault(int64_t tick, int particle = 0, bool internal = false) { runner_.inject_fault(tick, particle, internal); }  // tests
-  // Readers beside the one of snapshot() (the OpenIGTLink server): each published snapshot is
-  // offered to the tap (engine/realtime/snapshot_tap.h: a copy every n ticks, never waiting).
-  void add_snapshot_tap(SnapshotTap* tap) { taps_.push_back(tap); }
 
   void start();
   void stop();                     // joins the physics thread (idempotent)
@@ -176,7 +172,6 @@ class PhysicsLoop {
   // least as many new ones per publish (TickRunner::fill_snapshot holds the rest back)
   static constexpr size_t kEventCapacity = 2 * kMaxUnread;
   std::vector<SnapshotEvent> unread_;
-  std::vector<SnapshotTap*> taps_;
   uint64_t published_seq_ = 0;     // the newest event seq in the snapshot published last
   mutable std::mutex timing_mu_;   // the physics thread only try_locks it
   LoopTiming timing_;

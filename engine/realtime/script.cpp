@@ -1,4 +1,5 @@
 #include "engine/realtime/script.h"
+#include "engine/realtime/script_entry.h"
 
 #include <yaml-cpp/yaml.h>
 

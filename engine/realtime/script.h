@@ -52,17 +52,6 @@ struct Script {
 Script parse_script_text(const std::string& text, const std::string& file);
 Script parse_script_file(const std::string& path);
 
-// A live command: the keys of one timeline entry without `t` (`prostatesim` Python bindings'
-// Scene.command), as YAML or JSON text, checked as a script entry is. InputError naming the key
-// as `where`.key (the file left empty).
-ScriptEntry parse_command_text(const std::string& text, const std::string& where = "command");
-
-// The command of one entry for a scene, stamped `tick`. `probe_pose` is the probe pose commanded
-// so far (a probe entry's missing fields keep it; updated); a needle key aims the needle at its
-// depth, moving on at `needle_speed` [m/s]. InputError (file:line) for an instrument the scene lacks.
-Command entry_command(const ScriptEntry& e, const Scene& scene, int64_t tick, ProbePose& probe_pose, double needle_speed,
-                      const std::string& file);
-
 // Commands of a script for a scene, sorted by tick (stable: file order within a tick). Throws
 // InputError (file:line) for an instrument the scene lacks or a script for another scenario.
 std::vector<Command> script_commands(const Script& script, const Scene& scene);
