@@ -4,7 +4,7 @@ its axial tissue force plotted against its depth (from first tissue contact), on
 speed. Writes force_depth.png and force_depth.csv (speed_mm_s, depth_mm, force_n) to --out.
 
     PYTHONPATH=build/python python3 examples/python/insertion_speed_sweep.py --out out/sweep
-    ... --quick    # two speeds, 20 mm (what CI runs)
+    ... --quick    # two speeds, 30 mm (what CI runs)
 """
 import argparse
 import csv
@@ -46,12 +46,12 @@ def main():
     ap.add_argument("--needle", default="biopsy_1")
     ap.add_argument("--speeds", default="2.5,5,10,20,40", help="mm/s, comma-separated")
     ap.add_argument("--depth-mm", type=float, default=35.0, help="planned depth along the needle's path")
-    ap.add_argument("--quick", action="store_true", help="two speeds to 20 mm (CI)")
+    ap.add_argument("--quick", action="store_true", help="two speeds to 30 mm (CI)")
     ap.add_argument("--out", default="out/insertion_speed_sweep")
     a = ap.parse_args()
     speeds = [float(v) for v in a.speeds.split(",")]
     if a.quick:
-        speeds, a.depth_mm = [10.0, 40.0], 20.0
+        speeds, a.depth_mm = [10.0, 40.0], 30.0
     os.makedirs(a.out, exist_ok=True)
 
     fig, ax = plt.subplots(figsize=(7, 4.5), dpi=110)
