@@ -64,8 +64,9 @@ void DoseAccumulator::add(const Seed& s, float sign) {
     }
 }
 
-int DoseAccumulator::update(const std::vector<Seed>& seeds, double move_tol_mm) {
-  int passes = 0;
+int DoseAccumulator::update(const std::vector<Seed>& seeds, double move_tol_mm, int max_moved) {
+  int passes = 0, moved = 0;
+  lagging_ = 0;
   while (applied_.size() > seeds.size()) {
     add(applied_.back(), -1.0f);
     applied_.pop_back();
@@ -78,6 +79,11 @@ int DoseAccumulator::update(const std::vector<Seed>& seeds, double move_tol_mm) 
       if ((o.centre_mm - seeds[i].centre_mm).norm() <= move_tol_mm && o.axis.dot(seeds[i].axis) >= cos_tol &&
           o.strength_u == seeds[i].strength_u)
         continue;
+      if (moved >= max_moved) {
+        ++lagging_;
+        continue;
+      }
+      ++moved;
       add(o, -1.0f);
       add(seeds[i], 1.0f);
       applied_[i] = seeds[i];
@@ -94,6 +100,7 @@ int DoseAccumulator::update(const std::vector<Seed>& seeds, double move_tol_mm) 
 void DoseAccumulator::rebuild(const std::vector<Seed>& seeds) {
   std::fill(dose_.begin(), dose_.end(), 0.0f);
   applied_.clear();
+  lagging_ = 0;
   for (const Seed& s : seeds) {
     add(s, 1.0f);
     applied_.push_back(s);

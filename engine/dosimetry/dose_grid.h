@@ -42,8 +42,13 @@ class DoseAccumulator {
   DoseAccumulator(const SourceModel& s, const GridSpec& g);
   // Brings the grid to the dose of `seeds` (seeds keep their index: new ones are appended): adds
   // new seeds, re-adds those whose centre moved more than move_tol_mm or whose axis turned more
-  // than ~3 deg, removes those no longer in the list. Returns how many seed passes it made.
-  int update(const std::vector<Seed>& seeds, double move_tol_mm = 0.25);
+  // than ~3 deg, removes those no longer in the list. Returns how many seed passes it made. At
+  // most max_moved moved seeds are re-added per call (new and removed seeds always are): the rest
+  // keep their last position until a later call, so one call's cost stays bounded while the
+  // tissue carries every seed a little.
+  int update(const std::vector<Seed>& seeds, double move_tol_mm = 0.25, int max_moved = 1 << 30);
+  // Seeds whose applied position lags their position in the last update (budget exhausted).
+  int lagging() const { return lagging_; }
   // Recomputes from zero (no drift from the additions and removals).
   void rebuild(const std::vector<Seed>& seeds);
   const GridSpec& spec() const { return spec_; }
@@ -57,6 +62,7 @@ class DoseAccumulator {
   DoseKernel kernel_;
   std::vector<float> dose_;
   std::vector<Seed> applied_;
+  int lagging_ = 0;
 };
 
 }  // namespace ps::dosimetry

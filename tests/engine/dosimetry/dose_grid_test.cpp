@@ -77,3 +77,27 @@ TEST(DoseGrid, IncrementalUpdatesEqualAFreshComputation) {
 
 }  // namespace
 }  // namespace ps::dosimetry
+
+namespace ps::dosimetry {
+namespace {
+
+TEST(DoseGrid, MovedSeedsBeyondTheBudgetFollowInLaterUpdates) {
+  const SourceModel& s = *find_source_model("I125_6711");
+  const GridSpec g = grid_around(Vec3(-15, -10, -15), Vec3(15, 10, 15), 5.0, 2.0);
+  std::vector<Seed> seeds = some_seeds();
+  DoseAccumulator live(s, g);
+  live.update(seeds);
+  for (Seed& q : seeds) q.centre_mm += Vec3(0, 1.0, 0);   // the gland pushed as a whole
+  EXPECT_EQ(live.update(seeds, 0.25, 2), 4);              // two seeds re-added
+  EXPECT_EQ(live.lagging(), 4);
+  EXPECT_EQ(live.update(seeds, 0.25, 2), 4);
+  EXPECT_EQ(live.update(seeds, 0.25, 2), 4);
+  EXPECT_EQ(live.lagging(), 0);
+  EXPECT_EQ(live.update(seeds, 0.25, 2), 0);
+  DoseAccumulator fresh(s, g);
+  fresh.rebuild(seeds);
+  for (size_t i = 0; i < g.size(); i += 97) EXPECT_NEAR(live.dose_gy()[i], fresh.dose_gy()[i], 1e-4 * (1.0 + fresh.dose_gy()[i]));
+}
+
+}  // namespace
+}  // namespace ps::dosimetry
