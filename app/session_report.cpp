@@ -149,7 +149,7 @@ plot::Chart dvh_chart(const DosimetryReport& d) {
 // The dose-volume indices, planned beside achieved.
 plot::Canvas dosimetry_table(const DosimetryReport& d) {
   plot::Canvas t(kW, kH);
-  const plot::Rgb ink{20, 20, 20}, dim{90, 90, 90};
+  const plot::Rgb dim{90, 90, 90};
   int y = 20;
   auto line = [&](const std::string& s, int scale = 2, plot::Rgb c = {20, 20, 20}) {
     t.text(24, y, s, c, scale);

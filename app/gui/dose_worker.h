@@ -12,9 +12,9 @@
 #include <thread>
 #include <vector>
 
+#include "engine/contract/snapshot.h"
 #include "engine/dosimetry/live_dosimetry.h"
 #include "engine/metrics/tracked_point.h"
-#include "engine/realtime/snapshot.h"
 
 namespace ps {
 struct Scene;
