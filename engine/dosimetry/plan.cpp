@@ -165,7 +165,7 @@ Plan optimise_plan(const PlanInput& in) {
   size_t n_prostate = 0;
   for (uint8_t k : kind) n_prostate += (k & kProstate) ? 1 : 0;
 
-  const double w_hot = 0.15, w_ure = 4.0, w_rect = 4.0;
+  const double w_hot = 0.15, w_ure = 10.0, w_rect = 4.0;
   std::vector<double> D(nv, 0.0);
   std::vector<char> used(nc, 0);
   std::vector<size_t> chosen;
@@ -193,12 +193,12 @@ Plan optimise_plan(const PlanInput& in) {
             g += std::min(add, std::max(0.0, rx - now)) / rx;
             g -= w_hot * (excess(next, 1.5 * rx) - excess(now, 1.5 * rx)) / rx;
           }
-          if (k & kUrethra) g -= w_ure * (excess(next, 1.25 * rx) - excess(now, 1.25 * rx)) / rx;
+          if (k & kUrethra) g -= w_ure * (excess(next, 1.0 * rx) - excess(now, 1.0 * rx)) / rx;
           if (k & kRectum) g -= w_rect * (excess(next, 0.75 * rx) - excess(now, 0.75 * rx)) / rx;
         }
         if (g > best) { best = g; pick = c; }
       }
-      if (pick == nc || best <= 0.0) break;
+      if (pick == nc) break;  // every candidate used
       used[pick] = 1;
       chosen.push_back(pick);
       for (size_t q = 0; q < nv; ++q) D[q] += dose[pick * nv + q];

@@ -9,8 +9,9 @@
 // time, each time the candidate of the largest gain
 //   gain = sum over prostate voxels of min(d, max(0, Rx - D)) / Rx            (coverage)
 //        - w_hot  x increase of sum over prostate voxels of max(0, D - 1.5 Rx) / Rx
-//        - w_ure  x increase of sum over urethra voxels of max(0, D - 1.25 Rx) / Rx
+//        - w_ure  x increase of sum over urethra voxels of max(0, D - Rx) / Rx
 //        - w_rect x increase of sum over rectum voxels of max(0, D - 0.75 Rx) / Rx,
+// (w_hot 0.15, w_ure 10, w_rect 4; the best candidate is taken even when its gain is negative)
 // until the planning grid's V100 reaches its target; the plan is then evaluated on the 1 mm
 // grid, and the target raised by a point and the loop resumed while V100 < 95 % there.
 #pragma once
@@ -34,7 +35,7 @@ struct PlanInput {
   double prescription_gy = 145.0;
   double strength_u = 0.5;          // per seed [U]
   double step_mm = 5.0;             // seed spacing along a line
-  double min_urethra_mm = 5.0;      // no seed closer to the urethra's centre line
+  double min_urethra_mm = 10.0;     // no seed closer to the urethra's centre line (peripheral loading)
   double urethra_radius_mm = 3.0;   // the urethra as a tube for its DVH
   std::vector<PlanHole> holes;
   std::vector<Vec3> prostate_mm;    // closed surfaces at rest (vertices, faces)
