@@ -11,6 +11,7 @@ set(PROSTATESIM_FRONTEND_LAYERS
   haptics     # input devices and the haptic loop
   app/plot    # 2D charts into an RGB buffer
   app/core    # what the commands and the frontends share: the run / replay seams
+  app/window  # the GLFW + Dear ImGui window the trainee window and the editor share
   app/frames  # headless replay frames (PNG writer thread, contact sheet)
   app/gui     # the trainee window (GLFW + Dear ImGui)
   app/editor  # the instructor's scenario editor: commands, and its window
@@ -21,7 +22,8 @@ set(PROSTATESIM_FRONTEND_DEPS_render engine)
 set(PROSTATESIM_FRONTEND_DEPS_haptics engine)
 set(PROSTATESIM_FRONTEND_DEPS_app/plot engine)
 set(PROSTATESIM_FRONTEND_DEPS_app/core haptics engine)
+set(PROSTATESIM_FRONTEND_DEPS_app/window render)
 set(PROSTATESIM_FRONTEND_DEPS_app/frames app/core app/plot render)
-set(PROSTATESIM_FRONTEND_DEPS_app/gui app/core app/frames render haptics)
-set(PROSTATESIM_FRONTEND_DEPS_app/editor render)
-set(PROSTATESIM_FRONTEND_DEPS_app app/core app/plot app/frames app/gui app/editor render haptics)
+set(PROSTATESIM_FRONTEND_DEPS_app/gui app/core app/window app/frames render haptics)
+set(PROSTATESIM_FRONTEND_DEPS_app/editor app/window render)
+set(PROSTATESIM_FRONTEND_DEPS_app app/core app/plot app/window app/frames app/gui app/editor render haptics)
