@@ -115,6 +115,64 @@ plot::Chart scene_view(const Model& m, const State& s, const NeedleTool& tool, c
   return c;
 }
 
+// Cumulative DVH of the prostate, urethra and rectum, achieved (solid) and planned (dashed).
+plot::Chart dvh_chart(const DosimetryReport& d) {
+  plot::Chart c;
+  c.title = f("Dose-volume histogram (TG-43U1, %.0f Gy prescription)", d.prescription_gy);
+  c.x.label = "dose [% of prescription]";
+  c.y.label = "volume [%]";
+  c.x.min = 0.0;
+  c.x.max = 250.0;
+  c.y.min = 0.0;
+  c.y.max = 100.0;
+  c.legend = plot::LegendPos::TopRight;
+  const plot::Rgb colour[3] = {{200, 40, 40}, {230, 160, 0}, {60, 90, 200}};
+  const char* name[3] = {"prostate", "urethra", "rectum"};
+  for (int planned = 1; planned >= 0; --planned) {
+    const dosimetry::DvhCurve& v = planned ? d.dvh_planned : d.dvh_achieved;
+    const std::vector<double>* ys[3] = {&v.prostate, &v.urethra, &v.rectum};
+    for (int k = 0; k < 3; ++k) {
+      plot::Series s;
+      s.label = std::string(name[k]) + (planned ? " plan" : "");
+      s.color = colour[k];
+      s.dashed = planned;
+      for (size_t i = 0; i < v.dose_gy.size(); ++i) {
+        s.x.push_back(100.0 * v.dose_gy[i] / d.prescription_gy);
+        s.y.push_back(100.0 * (*ys[k])[i]);
+      }
+      c.series.push_back(s);
+    }
+  }
+  return c;
+}
+
+// The dose-volume indices, planned beside achieved.
+plot::Canvas dosimetry_table(const DosimetryReport& d) {
+  plot::Canvas t(kW, kH);
+  const plot::Rgb dim{90, 90, 90};
+  int y = 20;
+  auto line = [&](const std::string& s, int scale = 2, plot::Rgb c = {20, 20, 20}) {
+    t.text(24, y, s, c, scale);
+    y += plot::Canvas::text_height(scale) + 8;
+  };
+  line("Implant dosimetry", 3);
+  line(d.isotope + f(" seeds of %.3f U, prescription %.0f Gy", d.strength_u, d.prescription_gy), 2, dim);
+  line(f("seeds deposited %.0f of %.0f planned", d.seeds_deposited, d.seeds_planned), 2, dim);
+  line("                      planned   achieved", 2, dim);
+  const auto& p = d.planned;
+  const auto& a = d.achieved;
+  line(f("prostate D90  [Gy]   %7.1f   %7.1f", p.prostate_d90_gy, a.prostate_d90_gy));
+  line(f("prostate V100 [%%]    %7.1f   %7.1f", 100 * p.prostate_v100, 100 * a.prostate_v100));
+  line(f("prostate V150 [%%]    %7.1f   %7.1f", 100 * p.prostate_v150, 100 * a.prostate_v150));
+  line(f("prostate V200 [%%]    %7.1f   %7.1f", 100 * p.prostate_v200, 100 * a.prostate_v200));
+  line(f("urethra D10   [Gy]   %7.1f   %7.1f", p.urethra_d10_gy, a.urethra_d10_gy));
+  line(f("urethra D30   [Gy]   %7.1f   %7.1f", p.urethra_d30_gy, a.urethra_d30_gy));
+  line(f("rectum D2cc   [Gy]   %7.1f   %7.1f", p.rectum_d2cc_gy, a.rectum_d2cc_gy));
+  line(f("rectum V100   [cc]   %7.2f   %7.2f", p.rectum_v100_cc, a.rectum_v100_cc));
+  line(f("prostate %.1f cc on a 1 mm grid (gland + 10 mm)", a.prostate_cc), 1, dim);
+  return t;
+}
+
 }  // namespace
 
 RgbImage render_session_report(const Model& m, const State& s, const NeedleTool& tool, const ForceDepthRecorder& rec,
@@ -152,7 +210,7 @@ RgbImage render_session_report(const Model& m, const State& s, const NeedleTool&
   RgbImage img;
   const int col = views ? 2 : 1;  // column of the projections
   img.width = (col + 1) * kW;
-  img.height = 2 * kH;
+  img.height = (r.dosimetry.computed ? 3 : 2) * kH;  // a third row: the implant's DVH and indices
   img.pixels.assign(static_cast<size_t>(img.width) * img.height * 3, 255);
   blit(img, plot::render(fd, kW, kH), 0, 0);
   blit(img, plot::render(scene_view(m, s, tool, r, 1, 2, "Sagittal view at the end (y-z)", "y, anterior [mm]", "z, superior [mm]"), kW, kH),
@@ -249,6 +307,10 @@ RgbImage render_session_report(const Model& m, const State& s, const NeedleTool&
     line(f("seeds %.0f: error mean %.2f mm, max %.2f mm; outside the gland %.0f", r.seeds.size(), 1e3 * r.seed_error_mean,
            1e3 * r.seed_error_max, r.seeds_outside_gland));
   blit(img, t, 0, kH);
+  if (r.dosimetry.computed) {
+    blit(img, plot::render(dvh_chart(r.dosimetry), kW, kH), 0, 2 * kH);
+    blit(img, dosimetry_table(r.dosimetry), kW, 2 * kH);
+  }
   return img;
 }
 

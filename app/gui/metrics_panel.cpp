@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "app/gui/tip_target.h"
 #include "engine/metrics/score.h"
 #include "engine/metrics/session_metrics.h"
 #include "engine/metrics/tracked_point.h"
@@ -24,6 +25,7 @@ struct NeedleLive {
   int punctures = 0;
   uint32_t hits = 0;               // structure bits
   int entry = -1;                  // first component punctured: the route, not a hit
+  TipTargetHold tip_target;        // app/gui/tip_target.h
 };
 
 struct Live {
@@ -114,10 +116,15 @@ void metrics_panel(Session& s, const Snapshot& snap) {
       ImGui::TextUnformatted(n.name.c_str());
       ImGui::TableSetColumnIndex(1);
       if (n.has_target && r && r->depth > 0.0 && np == static_cast<size_t>(m.particle_count())) {
-        const double d = 1e3 * (r->tip - n.target.position(L.x)).norm();
+        const double d = n.tip_target.update(r->depth, 1e3 * (r->tip - n.target.position(L.x)).norm());
         sum += d;
         ++counted;
-        ImGui::Text("%.1f", d);
+        if (n.tip_target.held(r->depth)) ImGui::Text("%.1f deepest", d);
+        else ImGui::Text("%.1f", d);
+      } else if (n.has_target && n.tip_target.measured()) {  // drawn out of the tissue: its error stays
+        sum += n.tip_target.at_deepest_mm;
+        ++counted;
+        ImGui::Text("%.1f deepest", n.tip_target.at_deepest_mm);
       } else {
         ImGui::TextDisabled("-");
       }

@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/gui/dose_worker.h"
 #include "app/gui/metrics_panel.h"
 #include "app/gui/plot_axes.h"
 #include "app/gui/session.h"
@@ -188,6 +189,72 @@ void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width) {
   if (!p.error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.5f, 0.4f, 1.0f), "%s", p.error.c_str());
 }
 
+// The live implant dosimetry (dose_worker.h): the indices and the cumulative DVH, updated by the
+// worker thread as seeds drop and as the tissue carries them.
+struct DosePanel {
+  const Session* for_session = nullptr;
+  std::unique_ptr<DoseWorker> worker;
+  std::string error;
+  DoseFrame frame;
+};
+
+void dose_panel(DosePanel& p, Session& s, const Snapshot& snap, float width) {
+  if (p.for_session != &s) {
+    p.worker.reset();
+    p.frame = DoseFrame{};
+    p.error.clear();
+    p.for_session = &s;
+    bool seeds = false;
+    for (const NeedleSpec& n : s.scene().spec.needles.needles) seeds |= !n.seed_depths.empty();
+    if (!seeds) p.error = "no seeds planned in this scene";
+    else {
+      try {
+        p.worker = std::make_unique<DoseWorker>(s.scene());
+      } catch (const std::exception& e) {
+        p.error = e.what();
+      }
+    }
+  }
+  if (!p.error.empty()) {
+    ImGui::TextDisabled("%s", p.error.c_str());
+    return;
+  }
+  p.worker->submit(snap);
+  p.worker->take(p.frame);
+  if (!p.frame.ready) {
+    ImGui::TextDisabled("computing the first dose grid...");
+    return;
+  }
+  const auto& x = p.frame.indices;
+  const double rx = p.worker->prescription_gy();
+  ImGui::Text("%d seeds, I-125 6711, prescription %.0f Gy", p.frame.seeds, rx);
+  ImGui::Text("prostate D90 %.0f Gy (%.0f %%)  V100 %.1f %%  V150 %.1f %%  V200 %.1f %%", x.prostate_d90_gy,
+              100.0 * x.prostate_d90_gy / rx, 100 * x.prostate_v100, 100 * x.prostate_v150, 100 * x.prostate_v200);
+  ImGui::Text("urethra D10 %.0f Gy  D30 %.0f Gy   rectum D2cc %.0f Gy  V100 %.2f cc", x.urethra_d10_gy, x.urethra_d30_gy,
+              x.rectum_d2cc_gy, x.rectum_v100_cc);
+  // cumulative DVH: volume [%] against dose [% of prescription], 0..250 %
+  const float h = 150.0f, w = width - 20.0f;
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->AddRectFilled(p0, ImVec2(p0.x + w, p0.y + h), IM_COL32(250, 250, 250, 255));
+  auto X = [&](double pct) { return p0.x + static_cast<float>(pct / 250.0) * w; };
+  auto Y = [&](double frac) { return p0.y + h - static_cast<float>(frac) * h; };
+  for (int pct : {50, 100, 150, 200}) {
+    dl->AddLine(ImVec2(X(pct), p0.y), ImVec2(X(pct), p0.y + h), IM_COL32(200, 200, 200, 255));
+    dl->AddText(ImVec2(X(pct) + 2, p0.y + h - 14), IM_COL32(120, 120, 120, 255), (std::to_string(pct) + "%").c_str());
+  }
+  const auto& c = p.frame.dvh;
+  const std::vector<double>* ys[3] = {&c.prostate, &c.urethra, &c.rectum};
+  const ImU32 col[3] = {IM_COL32(200, 40, 40, 255), IM_COL32(230, 160, 0, 255), IM_COL32(60, 90, 200, 255)};
+  for (int k = 0; k < 3; ++k)
+    for (size_t i = 1; i < c.dose_gy.size(); ++i)
+      dl->AddLine(ImVec2(X(100.0 * c.dose_gy[i - 1] / rx), Y((*ys[k])[i - 1])), ImVec2(X(100.0 * c.dose_gy[i] / rx), Y((*ys[k])[i])),
+                  col[k], 2.0f);
+  ImGui::Dummy(ImVec2(w, h));
+  ImGui::TextDisabled("DVH: prostate (red), urethra (orange), rectum (blue); t = %.2f s, %.1f ms (worker thread)", p.frame.time,
+                      p.frame.ms);
+}
+
 void push_log(Ui& ui, const std::string& s) {
   ui.log.push_back(s);
   while (ui.log.size() > 400) ui.log.pop_front();
@@ -293,6 +360,7 @@ int run_window(app::RunSession& run) {
     Ui ui;
     ClickScript clicks(std::getenv("PROSTATESIM_CLICKS"));
     UsPanel us;  // destroyed at the end of this block, while the GL context is still current
+    DosePanel dose;
     ui.help = std::getenv("PROSTATESIM_HELP") != nullptr;
     const double factor = run.loop.factor();
     std::unique_ptr<Session> session = std::make_unique<Session>(run);
@@ -490,6 +558,7 @@ int run_window(app::RunSession& run) {
       }
       if (ImGui::CollapsingHeader("Ultrasound", ImGuiTreeNodeFlags_DefaultOpen)) us_panel(us, s, snap, kRightPanel - 20);
       if (ImGui::CollapsingHeader("Metrics", ImGuiTreeNodeFlags_DefaultOpen)) metrics_panel(s, snap);
+      if (ImGui::CollapsingHeader("Dosimetry", ImGuiTreeNodeFlags_DefaultOpen)) dose_panel(dose, s, snap, kRightPanel - 20);
       for (const ToolReadout& r : snap.tools)  // a filling (bladder_filling.yaml): its target volume as it fills
         if (r.kind == ToolReadout::Filling && ImGui::CollapsingHeader("Filling", ImGuiTreeNodeFlags_DefaultOpen))
           ImGui::Text("target volume of the filled organ %.1f ml", r.value * 1e6);

@@ -15,6 +15,29 @@ ordered_json mm(double v) { return std::isfinite(v) ? ordered_json(1e3 * v) : or
 ordered_json num(double v) { return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr); }
 ordered_json mm3(const Vec3& p) { return ordered_json::array({1e3 * p.x(), 1e3 * p.y(), 1e3 * p.z()}); }
 
+ordered_json indices_json(const dosimetry::DosimetryIndices& x) {
+  return {{"seeds", x.seeds},
+          {"prostate_cc", x.prostate_cc},
+          {"prostate_d90_gy", x.prostate_d90_gy},
+          {"prostate_v100", x.prostate_v100},
+          {"prostate_v150", x.prostate_v150},
+          {"prostate_v200", x.prostate_v200},
+          {"urethra_d10_gy", x.urethra_d10_gy},
+          {"urethra_d30_gy", x.urethra_d30_gy},
+          {"rectum_d2cc_gy", x.rectum_d2cc_gy},
+          {"rectum_v100_cc", x.rectum_v100_cc}};
+}
+
+ordered_json dosimetry_json(const DosimetryReport& d) {
+  if (!d.computed) return nullptr;
+  return {{"isotope", d.isotope},
+          {"prescription_gy", d.prescription_gy},
+          {"strength_u", d.strength_u},
+          {"grid_mm", 1.0},
+          {"planned", indices_json(d.planned)},
+          {"achieved", indices_json(d.achieved)}};
+}
+
 }  // namespace
 
 std::string metrics_json(const SessionReport& r, const Score& score, const SessionInfo& info) {
@@ -61,7 +84,8 @@ std::string metrics_json(const SessionReport& r, const Score& score, const Sessi
     seeds.push_back({{"needle", s.needle}, {"index", s.index}, {"deposited", s.deposited}, {"error_mm", mm(s.error)},
                      {"outside_gland", s.outside_gland}});
   j["brachytherapy"] = {{"seeds", seeds}, {"seed_error_mean_mm", mm(r.seed_error_mean)}, {"seed_error_max_mm", mm(r.seed_error_max)},
-                        {"seeds_outside_gland", r.gland_known ? ordered_json(r.seeds_outside_gland) : ordered_json(nullptr)}};
+                        {"seeds_outside_gland", r.gland_known ? ordered_json(r.seeds_outside_gland) : ordered_json(nullptr)},
+                        {"dosimetry", dosimetry_json(r.dosimetry)}};
   return j.dump(2) + "\n";
 }
 

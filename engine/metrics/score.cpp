@@ -35,6 +35,19 @@ Score score_session(const SessionReport& r) {
     s.terms.push_back({"seeds", std::min(20.0, 2.0 * se) + 5.0 * r.seeds_outside_gland,
                        fmt("mean seed error %.2f mm x 2 (max 20), %.0f outside the gland x 5", se, r.seeds_outside_gland)});
   }
+  if (r.dosimetry.computed) {
+    // the dose delivered against the dose planned (docs/dosimetry.md)
+    const auto& p = r.dosimetry.planned;
+    const auto& a = r.dosimetry.achieved;
+    const double rx = r.dosimetry.prescription_gy;
+    const double lost = std::max(0.0, p.prostate_v100 - a.prostate_v100);
+    const bool urethra = a.urethra_d10_gy >= 1.5 * rx && p.urethra_d10_gy < 1.5 * rx;
+    const bool rectum = a.rectum_d2cc_gy >= rx && p.rectum_d2cc_gy < rx;
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "prostate V100 %.1f %% of planned %.1f %% (40 x the shortfall)%s%s", 100.0 * a.prostate_v100,
+                  100.0 * p.prostate_v100, urethra ? ", urethra D10 >= 150 % x 10" : "", rectum ? ", rectum D2cc >= Rx x 10" : "");
+    s.terms.push_back({"dosimetry", 40.0 * lost + (urethra ? 10.0 : 0.0) + (rectum ? 10.0 : 0.0), buf});
+  }
   double v = 100.0;
   for (const ScoreTerm& t : s.terms) v -= t.points;
   s.value = std::clamp(v, 0.0, 100.0);

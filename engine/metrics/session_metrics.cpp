@@ -266,6 +266,15 @@ SessionReport SessionMetrics::finish(const NeedleTool& tool, const State& s, boo
     rep.seeds.push_back(std::move(sm));
   }
   if (deposited > 0) rep.seed_error_mean = seed_sum / deposited;
+  // TG-43U1 dose of the seeds where the tissue carried them, beside the plan
+  std::vector<Vec3> urethra_rest, urethra_now;
+  for (const TrackedPoint& u : urethra_) {
+    urethra_rest.push_back(u.rest);
+    urethra_now.push_back(u.position(s.x));
+  }
+  DosimetryOptions dopt = opt_.dosimetry;
+  dopt.gland = opt_.gland;
+  rep.dosimetry = implant_dosimetry(m, s.x, tool, urethra_rest, urethra_now, dopt);
   return rep;
 }
 

@@ -27,7 +27,8 @@
 // whose site label starts with them / planned sites; a needle whose target lies in tumour tissue
 // is a targeted lesion, missed when its core holds no tumour.
 // Brachytherapy: each deposited seed against its planned site carried by the tissue (mean, max
-// error) and seeds whose position is outside the gland surface (winding number < 1/2).
+// error) and seeds whose position is outside the gland surface (winding number < 1/2); the
+// implant's dose (TG-43U1) planned and achieved (implant_dosimetry.h).
 // Procedure time: first contact of any needle to the last needle's decisive moment [s].
 #pragma once
 #include <cstdint>
@@ -35,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/metrics/implant_dosimetry.h"
 #include "engine/metrics/tracked_point.h"
 #include "engine/state/state.h"
 #include "engine/tools/needle.h"
@@ -47,6 +49,7 @@ struct MetricsOptions {
   std::string gland = "prostate";  // component whose surface is the gland (seeds outside it)
   std::vector<Vec3> urethra;       // urethra centre line at rest [m] (empty: by component name only)
   double urethra_radius = 3e-3;    // [m]
+  DosimetryOptions dosimetry;      // isotope, prescription, seed strength (its gland: `gland`)
 };
 
 struct NeedleMetrics {
@@ -96,6 +99,7 @@ struct SessionReport {
   double seed_error_mean = NAN, seed_error_max = NAN;  // [m]
   int seeds_outside_gland = 0;
   bool gland_known = false;
+  DosimetryReport dosimetry;        // planned and achieved TG-43U1 indices (computed: has seeds)
   // targeting summary over the scored needles
   double mean_error = NAN, max_error = NAN;  // [m]
   int structures_hit = 0, reinsertions = 0, punctures = 0;
