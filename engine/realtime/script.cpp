@@ -207,6 +207,10 @@ std::vector<Command> script_commands(const Script& script, const Scene& scene) {
       c.tool = static_cast<int16_t>(scene.needle_tool);
       c.item = static_cast<int16_t>(i);
       const NeedleSpec& ns = scene.spec.needles.needles[i];
+      if (e.action == "needle" && e.depth > ns.length)
+        throw InputError(script.file, e.line, "depth_mm",
+                         "depth " + std::to_string(e.depth * 1e3) + " mm is beyond needle '" + ns.name + "''s length " +
+                             std::to_string(ns.length * 1e3) + " mm");
       if (e.action == "needle") {
         // aim at this key, moving at the speed that reaches the next key of this needle on time
         double speed = 0.0;
@@ -216,6 +220,13 @@ std::vector<Command> script_commands(const Script& script, const Scene& scene) {
           const double span = (tick_of(nx.t) - c.tick) * dt;  // on the tick grid: lands on the key
           if (span > 0) speed = (nx.depth - e.depth) / span;
           break;
+        }
+        if (!ns.guide.empty()) {  // in the probe's guide: the depth along the guide wherever the probe is
+          c.kind = CommandKind::NeedleDepth;
+          c.insertion = e.depth;
+          c.value = speed;
+          out.push_back(c);
+          continue;
         }
         c.kind = CommandKind::NeedleAim;
         const Vec3 dir = ns.direction.normalized();
