@@ -5,7 +5,7 @@ needle riding in the probe's biopsy guide.
 
 For each planned site the probe is rolled, angled (tilt, toward anterior) and pushed or pulled so
 that the guide's line passes through the site's centre, keeping the probe as near its working
-insertion as a tilt of at most 20 degrees allows; the needle is then advanced so that, after the
+insertion as a tilt of at most 10 degrees allows; the needle is then advanced so that, after the
 gun's throw, the centre of its notch lies on the site's centre. The site centres (peripheral-zone centroid of each of the 12 sites, at rest) are
 read from a session's metrics.json (biopsy.planned_site_centres_mm), e.g.
 
@@ -29,6 +29,9 @@ GUIDE_BACK = 32.0            # probe.needle_guide.back_mm: exit behind the tip-h
 STROKE = 22.0                # gun throw [mm]
 NOTCH_BACK = 5.0 + 18.0 / 2  # notch centre behind the tip after the throw [mm]
 START_INSERTION = 40.0       # probe.pose.insertion_mm
+# tilts of up to 20 deg (the window's range) pressed the rectal wall near the anal pivot until the
+# watchdog stopped a run (energy growth in the rectum at t = 18.5 s): the plan keeps to 10 deg
+MAX_TILT_DEG = 10
 
 ADVANCE_MM_S = 40.0          # needle pushed to its firing depth
 WITHDRAW_MM_S = 80.0         # and pulled back into the guide after the core
@@ -97,10 +100,10 @@ def solve(centre, tilt):
 
 def aim(centre):
     """(roll, tilt [deg], insertion [mm], needle depth before firing [mm]) that put the notch on
-    centre: of the tilts 0..20 deg (the window's range) the one that keeps the probe nearest its
+    centre: of the tilts 0..MAX_TILT_DEG the one that keeps the probe nearest its
     working insertion (40 mm), so that the apex is reached by angling the probe, not pulling it out."""
     best = None
-    for k in range(0, 41):
+    for k in range(0, 2 * MAX_TILT_DEG + 1):
         tilt = math.radians(0.5 * k)
         roll, insertion = solve(centre, tilt)
         d, s = miss(centre, roll, tilt, insertion)

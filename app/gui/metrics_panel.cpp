@@ -116,7 +116,7 @@ void metrics_panel(Session& s, const Snapshot& snap) {
       }
     }
     if (kind != NeedleEventKind::Puncture && kind != NeedleEventKind::BoneHit && kind != NeedleEventKind::Contact &&
-        kind != NeedleEventKind::GlandExit && kind != NeedleEventKind::Urethra)
+        kind != NeedleEventKind::Urethra)
       continue;
     const size_t colon = t.find(": ");
     if (colon == std::string::npos) continue;
@@ -131,7 +131,6 @@ void metrics_panel(Session& s, const Snapshot& snap) {
         else if (comp >= 0) n.hits |= structure_of(m.components[static_cast<size_t>(comp)]);
       }
       if (kind == NeedleEventKind::BoneHit) n.hits |= structure_of(m.components[static_cast<size_t>(std::max(comp, 0))]) | 8u;
-      if (kind == NeedleEventKind::GlandExit) n.hits |= 16u;  // structure_name(16): the capsule left behind
       if (kind == NeedleEventKind::Urethra) n.hits |= 1u;
     }
   }
@@ -175,7 +174,7 @@ void metrics_panel(Session& s, const Snapshot& snap) {
       ImGui::Text("%d", n.punctures);
       ImGui::TableSetColumnIndex(4);
       std::string hits;
-      for (int b = 1; b <= 16; b <<= 1)
+      for (int b = 1; b <= 8; b <<= 1)
         if (n.hits & static_cast<uint32_t>(b)) hits += std::string(hits.empty() ? "" : ", ") + structure_name(b);
       if (hits.empty()) ImGui::TextDisabled("none");
       else ImGui::TextColored(ImVec4(1, 0.45f, 0.4f, 1), "%s", hits.c_str());

@@ -12,7 +12,7 @@ namespace ps {
 
 namespace {
 
-enum : uint32_t { kUrethra = 1, kRectum = 2, kBladder = 4, kBone = 8, kGlandExit = 16, kLastStructure = kGlandExit };
+enum : uint32_t { kUrethra = 1, kRectum = 2, kBladder = 4, kBone = 8, kLastStructure = kBone };
 
 bool is_tumour_name(const std::string& n, const std::vector<std::string>& listed) {
   if (!listed.empty()) return std::find(listed.begin(), listed.end(), n) != listed.end();
@@ -43,7 +43,6 @@ const char* structure_name(int bit) {
     case kRectum: return "rectal wall";
     case kBladder: return "bladder";
     case kBone: return "bone";
-    case kGlandExit: return "capsule (left the gland)";
   }
   return "";
 }
@@ -117,7 +116,6 @@ void SessionMetrics::observe(const NeedleTool& tool, const State& s) {
         }
         break;
       case NeedleEventKind::BoneHit: t.hit_mask |= kBone; break;
-      case NeedleEventKind::GlandExit: t.hit_mask |= kGlandExit; break;
       case NeedleEventKind::Urethra: t.hit_mask |= kUrethra; break;
       case NeedleEventKind::Core: {
         const Vec3 dir = tool.readout(e.needle).direction;  // the needle's direction this tick

@@ -18,7 +18,7 @@
 //  * insertion time: first contact to the decisive moment (last seed for a seed needle) [s];
 //  * structures hit: urethra, rectal wall, bladder, bone, from the Contact / Puncture / BoneHit
 //    events on those organs (engine/model/organ.h: by component name, any rigid component = bone),
-//    the tip leaving the gland through its capsule (GlandExit), the Urethra event, and
+//    the Urethra event, and
 //    for the urethra also the tip coming within MetricsOptions::urethra_radius of the urethra
 //    centre line (carried by the tissue) when one is given. The component the needle enters
 //    first is its route (the rectal wall for a transrectal biopsy), not a hit, unless it is
@@ -74,7 +74,7 @@ struct NeedleMetrics {
   double peak_force = 0.0, mean_force = 0.0;  // [N]
   double first_contact = NAN;       // [s]
   double insertion_time = NAN;      // [s]
-  std::vector<std::string> structures_hit;   // "urethra", "rectal wall", "bladder", "bone", "capsule (left the gland)"
+  std::vector<std::string> structures_hit;   // "urethra", "rectal wall", "bladder", "bone"
   bool target_in_lesion = false;
 };
 

@@ -62,7 +62,6 @@ const char* needle_event_name(NeedleEventKind k) {
     case NeedleEventKind::Core: return "core";
     case NeedleEventKind::BoneHit: return "bone_hit";
     case NeedleEventKind::ForceClamped: return "force_clamped";
-    case NeedleEventKind::GlandExit: return "gland_exit";
     case NeedleEventKind::Urethra: return "urethra";
   }
   return "?";
@@ -247,8 +246,6 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
         nd.lumen = c;
         nd.in_lumen = true;
       }
-    for (int c = 0; c < nc && nd.gland < 0; ++c)
-      if (component_organ(m.components[c]) == Organ::Gland && puncture_kc_[c] > 0.0 && !mf.sheet[c]) nd.gland = c;
     for (double depth : spec.seed_depths) {
       SeedState sd;
       sd.depth = depth;
@@ -280,9 +277,8 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
     // margin the compiler keeps for the tissue (0.9 of the explicit limit 2 sqrt(m / k), m the
     // lightest particle). The press force is also capped at the puncture threshold and critically
     // damped (needle_forces.cpp) and the stick springs are bounded per substep by the coupling
-    // budget (needle_coupling.cpp), so this flags a spring beyond the explicit limit itself. The
-    // old 0.5 margin flagged the default scenes at 3 substeps (0.333 ms against 0.247 ms) where
-    // the needle force is within 6 % of the 12-substep reference (docs/performance.md, round 5).
+    // budget (needle_coupling.cpp), so this flags a spring beyond the explicit limit itself (a
+    // margin of 0.5 would flag the default scenes, whose needle force is within the error budget).
     const double k_tool = std::max(spec.press_stiffness, spec.stick_stiffness);
     if (std::isfinite(m_min) && h_sub > 0.9 * 2.0 * std::sqrt(m_min / k_tool))
       warnings_.push_back("needle '" + spec.name + "': press/stick stiffness " + std::to_string(k_tool) +
@@ -309,7 +305,7 @@ void NeedleTool::forces(const Model& m, State& s, double dt) {
   // zoning every needle first changes nothing but lets the bound see all of them.
   for (auto& p : needles_) {
     if (p->guided && probe_) follow_guide(*p, m, s, probe_->biopsy_guide());
-    update_needle_zones(*p, m, s, puncture_kc_, *membranes_, dt, events_);
+    update_needle_zones(*p, m, s, puncture_kc_, *membranes_, events_);
     prepare_needle_anchors(*p, s);
   }
   bound_needle_coupling(needles_, m, dt, *budget_);

@@ -19,8 +19,6 @@ enum class NeedleEventKind : uint8_t {
   Core,         // biopsy core taken (value = particles in the notch; details in NeedleTool::core)
   BoneHit,      // tip stopped by rigid bone (component, position)
   ForceClamped, // coupling force or speed exceeded the needle's limit and was clamped
-  GlandExit,    // tip left the gland (an entered volume of organ Gland) through its capsule (component,
-                // the crossing point)
   Urethra       // tip came within the urethra's radius of its centre line (value: distance [m])
 };
 const char* needle_event_name(NeedleEventKind k);

@@ -104,7 +104,6 @@ struct NeedleTool::Needle {
   // wall and cut and rub the tissue beyond it, dragging the wall ahead of the tip); afterwards
   // only the part of the shaft beyond the hole does, and the wall rubs it only at the hole.
   int lumen = -1;                        // sheet component, -1: none
-  int gland = -1;                        // the gland (organ Gland, a volume with a capsule), -1: none
   bool near_urethra = false;             // tip within the urethra's radius (Urethra event given)
   bool in_lumen = false;                 // the tip is inside it
   double exit_a = -1e300;                // the hole's position along d relative to the tip (< 0) [m]
@@ -163,9 +162,8 @@ struct MembraneFaces {
 };
 
 // needle_zones.cpp: tube walk and zone membership (cutting, puncture, friction per node)
-// (h: the substep [s]; the tip's last step is h V)
 void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s, const std::vector<double>& puncture_kc,
-                         const MembraneFaces& mf, double h, NeedleEventRing& events);
+                         const MembraneFaces& mf, NeedleEventRing& events);
 // Per-particle bound on the needle-tissue coupling stiffness (needle_coupling.cpp), shared by
 // all needles of the tool: G_q = sum over anchors A holding q of k_A c_A,q C_A / m_q, a
 // (block Gershgorin) upper bound on the largest eigenvalue of M^-1 K_needles [1/s^2].

@@ -33,27 +33,10 @@ void keep_nearest(std::array<int, K>& idx, std::array<double, K>& dist, int& n, 
   if (dp < dist[far]) { idx[far] = p; dist[far] = dp; }
 }
 
-// Does the line X + t d cross triangle ABC (Moller-Trumbore)? t: the crossing's position along d.
-bool axis_crosses(const Vec3& A, const Vec3& B, const Vec3& C, const Vec3& X, const Vec3& d, double& t) {
-  const Vec3 e1 = B - A, e2 = C - A;
-  const Vec3 pv = d.cross(e2);
-  const double det = e1.dot(pv);
-  if (std::abs(det) < 1e-30) return false;
-  const double inv = 1.0 / det;
-  const Vec3 tv = X - A;
-  const double u = tv.dot(pv) * inv;
-  const Vec3 qv = tv.cross(e1);
-  const double v = d.dot(qv) * inv;
-  constexpr double tol = 1e-9;
-  if (u < -tol || v < -tol || u + v > 1.0 + tol) return false;
-  t = e2.dot(qv) * inv;
-  return true;
-}
-
 }  // namespace
 
 void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s, const std::vector<double>& puncture_kc,
-                         const MembraneFaces& mf, double h, NeedleEventRing& events) {
+                         const MembraneFaces& mf, NeedleEventRing& events) {
   const Vec3 T = nd.T, d = nd.d;
   const double sp = nd.spec.node_spacing;
   const double shaft = (nd.node_count - 1) * sp;
@@ -119,27 +102,10 @@ void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s,
   // and ahead of the tip, torn or intact (where the shaft leaves the lumen; whether the tip is back)
   double lumen_behind = -1e300, lumen_ahead = 1e300;
   bool behind_torn = false, ahead_torn = false;
-  // leaving the gland: an exit face of the entered gland that the axis crosses within the tip's
-  // last forward step (T - h V .. T: the step move_needle took, bone stops aside)
-  const double advance = nd.V.dot(d) * h;
-  const bool watch_exit = nd.gland >= 0 && nd.entered[nd.gland] && advance > 0.0;
-  bool exited = false;
-  Vec3 exit_at = Vec3::Zero();
   for (int p : nd.tracked) {
     const int c = m.component_of[p];
     const bool sheet = mf.sheet[c] != 0;
     const bool lumen_wall = c == nd.lumen;
-    if (watch_exit && !exited && c == nd.gland && m.on_surface[p]) {
-      for (int k = mf.start[p]; k < mf.start[p + 1] && !exited; ++k) {
-        const auto& fc = mf.faces[mf.list[k]];
-        double t = 0.0;
-        if (axis_crosses(s.x[fc[0]], s.x[fc[1]], s.x[fc[2]], T, d, t) && t < 0.0 && t >= -advance &&
-            (s.x[fc[1]] - s.x[fc[0]]).cross(s.x[fc[2]] - s.x[fc[0]]).dot(d) > 0.0) {
-          exited = true;
-          exit_at = T + t * d;
-        }
-      }
-    }
     if (!(puncture_kc[c] > 0.0) || !m.on_surface[p] || (!sheet && nd.entered[c])) continue;
     for (int k = mf.start[p]; k < mf.start[p + 1]; ++k) {
       const int f = mf.list[k];
@@ -176,7 +142,6 @@ void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s,
       nd.press_component = mf.face_component[f];
     }
   }
-  if (exited) push_event(events, nd, NeedleEventKind::GlandExit, s.time, exit_at, nd.gland);
   // the membrane particles around the crossing share the press load (weights 1 - (r/R)^2)
   Vec3 X_press = Vec3::Zero();
   double R2_press = 0.0;
