@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/plot/chart.h"
+#include "engine/metrics/sextant_map.h"
 
 namespace ps::app {
 
@@ -175,6 +176,35 @@ plot::Canvas dosimetry_table(const DosimetryReport& d) {
 
 }  // namespace
 
+// The 12-core map (engine/metrics/sextant_map.h) at (x0, y0): planned sites outlined, cored
+// sites green (the number of cores), a core that held lesion red.
+void draw_sextant_map(plot::Canvas& t, const SextantMap& map, int lesions_targeted, int lesions_missed, int x0, int y0) {
+  constexpr int kCw = 52, kCh = 30;
+  const plot::Rgb ink{20, 20, 20}, dim{110, 110, 110};
+  t.text(x0, y0, "12-core map", ink, 2);
+  y0 += 22;
+  const char* cols[4] = {"R lat", "R med", "L med", "L lat"};
+  const char* rows[3] = {"base", "mid", "apex"};
+  for (int c = 0; c < 4; ++c) t.text(x0 + 40 + c * kCw + 6, y0, cols[c], dim, 1);
+  y0 += 12;
+  for (int r = 0; r < 3; ++r) {
+    t.text(x0, y0 + r * kCh + 11, rows[r], dim, 1);
+    for (int c = 0; c < 4; ++c) {
+      const SextantCell& cell = map.cells[4 * r + c];
+      const int cx = x0 + 40 + c * kCw, cy = y0 + r * kCh;
+      if (cell.cores > 0) t.fill_rect(cx + 2, cy + 2, cx + kCw - 2, cy + kCh - 2, cell.lesion ? plot::Rgb{215, 60, 50} : plot::Rgb{80, 170, 90});
+      else if (cell.planned) t.fill_rect(cx + 2, cy + 2, cx + kCw - 2, cy + kCh - 2, {232, 232, 232});
+      t.rect_outline(cx + 1, cy + 1, cx + kCw - 1, cy + kCh - 1, cell.planned ? ink : plot::Rgb{200, 200, 200});
+      if (cell.cores > 0) t.text(cx + kCw / 2 - 4, cy + 9, std::to_string(cell.cores), {255, 255, 255}, 2);
+    }
+  }
+  int y = y0 + 3 * kCh + 6;
+  t.text(x0, y, "green: cored  red: lesion  grey: planned, missed", dim, 1);
+  y += 12;
+  if (map.off_map > 0) { t.text(x0, y, f("%.0f core(s) off the map (outside the gland)", map.off_map), {160, 40, 40}, 1); y += 12; }
+  if (lesions_targeted > 0) t.text(x0, y, f("lesions: %.0f targeted, %.0f missed", lesions_targeted, lesions_missed), lesions_missed ? plot::Rgb{160, 40, 40} : ink, 1);
+}
+
 RgbImage render_session_report(const Model& m, const State& s, const NeedleTool& tool, const ForceDepthRecorder& rec,
                                const SessionReport& r, const Score& score, const ReportViews* views) {
   // force versus depth
@@ -306,6 +336,11 @@ RgbImage render_session_report(const Model& m, const State& s, const NeedleTool&
   if (!std::isnan(r.seed_error_mean))
     line(f("seeds %.0f: error mean %.2f mm, max %.2f mm; outside the gland %.0f", r.seeds.size(), 1e3 * r.seed_error_mean,
            1e3 * r.seed_error_max, r.seeds_outside_gland));
+  if (!r.planned_sites.empty() || !r.cores.empty())
+    draw_sextant_map(t, sextant_map(r), r.lesions_targeted, r.lesions_missed, kW - 270, 16);
+  if (!std::isnan(r.probe_peak_force))
+    line(f("probe contact force: peak %.1f N, %.1f s above %.0f N (provisional threshold)", r.probe_peak_force, r.probe_time_above,
+           kProbeForceThreshold));
   blit(img, t, 0, kH);
   if (r.dosimetry.computed) {
     blit(img, plot::render(dvh_chart(r.dosimetry), kW, kH), 0, 2 * kH);

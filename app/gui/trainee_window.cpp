@@ -22,6 +22,7 @@
 #include "app/gui/session.h"
 #include "app/gui/ultrasound_worker.h"
 #include "app/window/app_window.h"
+#include "engine/metrics/session_metrics.h"
 #include "haptics/mouse_keyboard.h"
 #include "engine/util/error.h"
 #include "render/gl_api.h"
@@ -34,6 +35,8 @@ namespace {
 
 constexpr float kLeftPanel = 330.0f, kRightPanel = 400.0f;  // panel widths [px]
 constexpr double kPi = 3.14159265358979323846;
+constexpr float kProbeDragDegPerPixel = 0.15f;  // Ctrl + drag: probe roll / tilt per pixel [deg]
+constexpr float kProbeWheelMm = 2.0f;           // Ctrl + wheel: probe insertion per notch [mm]
 
 struct Ui {
   render::View view = render::View::Orbit;
@@ -44,6 +47,7 @@ struct Ui {
   int needle = 0;                 // selected needle index
   float speed_mm_s = 5.0f;        // advance speed [mm/s]
   float insertion_mm = 0, roll_deg = 0, tilt_deg = 0, yaw_deg = 0;
+  double probe_peak_n = 0, probe_above_s = 0, probe_time = 0;  // probe contact force read-out
   char open_path[512] = {};
   char state_path[512] = {};      // saved state to load (filled by "Save last good state")
   std::string error;              // last load error (file:line:field)
@@ -108,6 +112,7 @@ struct UsPanel {
   unsigned tex[2] = {0, 0};
   bool have = false;
   float gain_db = 0.0f, depth_mm = 60.0f, freq_mhz = 7.5f;  // the knobs (sliders)
+  bool lesions = true, toggle_lesions = false;               // fused MRI contour of the lesions (M)
   ~UsPanel() {
     worker.reset();
     if (tex[0] && gl::loaded()) gl::api.DeleteTextures(2, tex);
@@ -128,6 +133,7 @@ void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width) {
         p.gain_db = static_cast<float>(c.gain_db);
         p.depth_mm = static_cast<float>(c.depth_m * 1e3);
         p.freq_mhz = static_cast<float>(c.frequency_hz * 1e-6);
+        p.lesions = c.lesions;
       } catch (const std::exception& e) {
         p.error = e.what();
       }
@@ -178,10 +184,13 @@ void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width) {
   ImGui::SameLine();
   changed |= ImGui::SliderFloat("depth [mm]", &p.depth_mm, 30.0f, 100.0f, "%.0f");
   changed |= ImGui::SliderFloat("frequency [MHz]", &p.freq_mhz, 4.0f, 12.0f, "%.1f");
+  ImGui::SameLine();
+  changed |= ImGui::Checkbox("MRI contour (M)", &p.lesions);
+  if (p.toggle_lesions) { p.lesions = !p.lesions; p.toggle_lesions = false; changed = true; }
   ImGui::PopItemWidth();
   if (changed && p.worker) {
     try {
-      p.worker->set_controls({p.gain_db, p.depth_mm * 1e-3, p.freq_mhz * 1e6});
+      p.worker->set_controls({p.gain_db, p.depth_mm * 1e-3, p.freq_mhz * 1e6, p.lesions});
     } catch (const std::exception& e) {  // a typed-in value out of range (ctrl+click): say which
       p.error = e.what();
     }
@@ -324,13 +333,17 @@ void help_overlay(Ui& ui) {
   ImGui::Begin("Help: mouse and keyboard", &ui.help, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse);
   const char* rows[][2] = {
       {"left drag (vertical)", "needle depth (mouse+keyboard device), else orbit"},
+      {"Ctrl + left drag", "probe: across turns it about its axis, up/down angles it about the anal pivot"},
+      {"Ctrl + wheel, PgUp / PgDn", "probe: push in / pull out"},
+      {"[ / ]", "probe: turn left / right (2 deg)"},
+      {"--probe-device spacemouse", "probe in 6 DOF from a SpaceMouse (run option)"},
       {"right drag", "orbit the 3D view"}, {"middle drag", "pan"}, {"wheel", "zoom"},
       {"1 2 3 4 5", "views: 3D, anterior, lateral, along probe, side-on to needle"},
       {"W / S (hold)", "advance / retract the active needle"}, {"Q / E", "turn the needle hub"},
       {"Tab", "next needle"}, {"Space", "fire the biopsy gun"}, {"D", "deposit a seed"},
       {"Shift (hold)", "clutch: move the hand without the needle"},
       {"P", "pause / resume"}, {"R", "restart the scenario"}, {"C", "displacement colours"},
-      {"A", "force arrows"}, {"H or F1", "this help"}, {"Esc", "close the help"}};
+      {"A", "force arrows"}, {"M", "lesions' fused MRI contour on the ultrasound"}, {"H or F1", "this help"}, {"Esc", "close the help"}};
   if (ImGui::BeginTable("bindings", 2, ImGuiTableFlags_RowBg)) {
     for (auto& r : rows) {
       ImGui::TableNextRow();
@@ -429,6 +442,18 @@ int run_window(app::RunSession& run) {
         if (pressed(GLFW_KEY_A)) ui.ropt.force_arrows = !ui.ropt.force_arrows;
         if (pressed(GLFW_KEY_H) || pressed(GLFW_KEY_F1)) ui.help = !ui.help;
         if (pressed(GLFW_KEY_ESCAPE)) ui.help = false;
+        if (pressed(GLFW_KEY_M)) us.toggle_lesions = true;
+        if (s.has_probe()) {
+          bool moved = false;
+          auto step = [&](int key, float& v, float by, float lo, float hi) {
+            if (ImGui::IsKeyPressed(key, true)) { v = std::clamp(v + by, lo, hi); moved = true; }
+          };
+          step(GLFW_KEY_PAGE_UP, ui.insertion_mm, 1.0f, 0.0f, 80.0f);
+          step(GLFW_KEY_PAGE_DOWN, ui.insertion_mm, -1.0f, 0.0f, 80.0f);
+          step(GLFW_KEY_LEFT_BRACKET, ui.roll_deg, -2.0f, -90.0f, 90.0f);
+          step(GLFW_KEY_RIGHT_BRACKET, ui.roll_deg, 2.0f, -90.0f, 90.0f);
+          if (moved) s.move_probe(ui.insertion_mm * 1e-3, ui.roll_deg * kPi / 180, ui.tilt_deg * kPi / 180, ui.yaw_deg * kPi / 180);
+        }
         if (haptics::MouseKeyboardDevice* m = s.mouse()) {
           using K = haptics::MouseKeyboardDevice;
           const std::pair<int, K::Key> keys[] = {{GLFW_KEY_W, K::W}, {GLFW_KEY_S, K::S}, {GLFW_KEY_Q, K::Q}, {GLFW_KEY_E, K::E},
@@ -509,6 +534,18 @@ int run_window(app::RunSession& run) {
         moved |= ImGui::SliderFloat("yaw [deg]", &ui.yaw_deg, -20.0f, 20.0f);
         if (moved)
           s.move_probe(ui.insertion_mm * 1e-3, ui.roll_deg * kPi / 180, ui.tilt_deg * kPi / 180, ui.yaw_deg * kPi / 180);
+        // its contact force on the rectal wall, as the session metrics keep it (docs/metrics.md)
+        for (const auto& t : snap.tools) {
+          if (t.kind != ToolReadout::Probe) continue;
+          if (snap.time < ui.probe_time) { ui.probe_peak_n = 0; ui.probe_above_s = 0; }  // restarted
+          if (t.force > kProbeForceThreshold && snap.time > ui.probe_time) ui.probe_above_s += snap.time - ui.probe_time;
+          ui.probe_time = snap.time;
+          ui.probe_peak_n = std::max(ui.probe_peak_n, t.force);
+          const bool high = t.force > kProbeForceThreshold;
+          ImGui::TextColored(high ? ImVec4(1, 0.45f, 0.35f, 1) : ImVec4(0.8f, 0.85f, 0.9f, 1), "contact force %.1f N (peak %.1f N)",
+                             t.force, ui.probe_peak_n);
+          ImGui::Text("%.1f s above %.0f N (provisional)", ui.probe_above_s, kProbeForceThreshold);
+        }
         ImGui::Separator();
       }
       if (s.needle_count() > 0) {
@@ -621,10 +658,27 @@ int run_window(app::RunSession& run) {
       const float vx = kLeftPanel, vw = std::max(1.0f, ds.x - kLeftPanel - kRightPanel), vh = ds.y;
       if (!io.WantCaptureMouse) {
         const ImVec2 d = io.MouseDelta;
-        if (ImGui::IsMouseDown(0) && s.mouse()) s.mouse()->drag(d.y);  // needle depth (device)
-        else if (ImGui::IsMouseDown(0) || ImGui::IsMouseDown(1)) { ui.view = render::View::Orbit; ui.orbit.rotate(-0.3 * d.x, 0.3 * d.y); }
-        if (ImGui::IsMouseDown(2)) { ui.view = render::View::Orbit; ui.orbit.pan(-d.x * ui.orbit.distance / vh, d.y * ui.orbit.distance / vh); }
-        if (io.MouseWheel != 0.0f) ui.orbit.zoom(std::pow(0.9, io.MouseWheel));
+        // Ctrl: the probe as its handle is held: drag across turns it about its axis (roll),
+        // drag up / down angles it about the anal pivot (tilt), the wheel pushes and pulls it
+        const bool hold_probe = io.KeyCtrl && s.has_probe();
+        if (hold_probe) {
+          bool moved = false;
+          if (ImGui::IsMouseDown(0) && (d.x != 0.0f || d.y != 0.0f)) {
+            ui.roll_deg = std::clamp(ui.roll_deg + kProbeDragDegPerPixel * d.x, -90.0f, 90.0f);
+            ui.tilt_deg = std::clamp(ui.tilt_deg - kProbeDragDegPerPixel * d.y, -20.0f, 20.0f);
+            moved = true;
+          }
+          if (io.MouseWheel != 0.0f) {
+            ui.insertion_mm = std::clamp(ui.insertion_mm + kProbeWheelMm * io.MouseWheel, 0.0f, 80.0f);
+            moved = true;
+          }
+          if (moved) s.move_probe(ui.insertion_mm * 1e-3, ui.roll_deg * kPi / 180, ui.tilt_deg * kPi / 180, ui.yaw_deg * kPi / 180);
+        } else {
+          if (ImGui::IsMouseDown(0) && s.mouse()) s.mouse()->drag(d.y);  // needle depth (device)
+          else if (ImGui::IsMouseDown(0) || ImGui::IsMouseDown(1)) { ui.view = render::View::Orbit; ui.orbit.rotate(-0.3 * d.x, 0.3 * d.y); }
+          if (ImGui::IsMouseDown(2)) { ui.view = render::View::Orbit; ui.orbit.pan(-d.x * ui.orbit.distance / vh, d.y * ui.orbit.distance / vh); }
+          if (io.MouseWheel != 0.0f) ui.orbit.zoom(std::pow(0.9, io.MouseWheel));
+        }
       }
       ImGui::Render();
       int fbw = 0, fbh = 0;

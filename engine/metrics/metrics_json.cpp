@@ -58,6 +58,8 @@ std::string metrics_json(const SessionReport& r, const Score& score, const Sessi
                     {"scale_position", num(han_scale_position(r.mean_error))}, {"scale", han_scale_text(r.mean_error)},
                     {"reference", {{"source", "Han et al., J Urol 2012, pelvic mock-ups"},
                                    {"freehand_mm", 1e3 * kHanFreehandError}, {"robot_mm", 1e3 * kHanRobotError}}}};
+  j["probe"] = {{"peak_force_n", num(r.probe_peak_force)}, {"time_above_threshold_s", num(r.probe_time_above)},
+                {"threshold_n", kProbeForceThreshold}, {"threshold_note", "provisional: no published TRUS probe force found"}};
   j["totals"] = {{"needles", r.needles.size()}, {"punctures", r.punctures}, {"reinsertions", r.reinsertions},
                  {"structures_hit", r.structures_hit}};
   ordered_json needles = ordered_json::array();
@@ -74,11 +76,16 @@ std::string metrics_json(const SessionReport& r, const Score& score, const Sessi
   for (const CoreMetrics& c : r.cores)
     cores.push_back({{"needle", c.needle}, {"taken", c.taken}, {"time_s", c.time}, {"site", c.site},
                      {"planned_site", c.planned_site}, {"lesion_hit", c.lesion_hit}, {"lesion_length_mm", 1e3 * c.lesion_length},
-                     {"notch_length_mm", 1e3 * c.notch_length}});
+                     {"notch_length_mm", 1e3 * c.notch_length},
+                     {"notch_centre_mm", c.taken ? mm3(c.notch_centre) : ordered_json(nullptr)},
+                     {"site_error_mm", mm(c.site_error)}});
   ordered_json per_zone = ordered_json::object();
   for (const auto& [z, n] : r.cores_per_zone) per_zone[z] = n;
-  j["biopsy"] = {{"cores", cores}, {"cores_per_zone", per_zone}, {"planned_sites", r.planned_sites},
-                 {"coverage", num(r.coverage)}, {"lesions_targeted", r.lesions_targeted}, {"lesions_missed", r.lesions_missed}};
+  ordered_json centres = ordered_json::object();
+  for (const PlannedSite& ps : r.planned_site_centres) centres[ps.label] = mm3(ps.centre);
+  j["biopsy"] = {{"cores", cores}, {"cores_per_zone", per_zone}, {"planned_sites", r.planned_sites}, {"planned_site_centres_mm", centres},
+                 {"coverage", num(r.coverage)}, {"cores_outside_gland", r.cores_outside_gland},
+                 {"lesions_targeted", r.lesions_targeted}, {"lesions_missed", r.lesions_missed}};
   ordered_json seeds = ordered_json::array();
   for (const SeedMetrics& s : r.seeds)
     seeds.push_back({{"needle", s.needle}, {"index", s.index}, {"deposited", s.deposited}, {"error_mm", mm(s.error)},

@@ -28,6 +28,8 @@ Score score_session(const SessionReport& r) {
   s.terms.push_back({"reinsertion", 3.0 * r.reinsertions, fmt("%.0f re-insertion(s) x 3", r.reinsertions)});
   if (!std::isnan(r.coverage))
     s.terms.push_back({"coverage", 20.0 * (1.0 - r.coverage), fmt("%.0f %% of the planned sites cored", 100.0 * r.coverage)});
+  if (r.cores_outside_gland > 0)
+    s.terms.push_back({"outside", 5.0 * r.cores_outside_gland, fmt("%.0f core(s) outside the gland x 5", r.cores_outside_gland)});
   if (r.lesions_targeted > 0)
     s.terms.push_back({"lesion", 10.0 * r.lesions_missed, fmt("%.0f of %.0f targeted lesion(s) missed", r.lesions_missed, r.lesions_targeted)});
   if (!std::isnan(r.seed_error_mean)) {

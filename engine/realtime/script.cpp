@@ -210,6 +210,17 @@ Command entry_command(const ScriptEntry& e, const Scene& scene, int64_t tick, Pr
   c.tool = static_cast<int16_t>(scene.needle_tool);
   c.item = static_cast<int16_t>(i);
   const NeedleSpec& ns = scene.spec.needles.needles[i];
+  if (e.action == "needle" && e.depth > ns.length)
+    throw InputError(file, e.line, "depth_mm",
+                     "depth " + std::to_string(e.depth * 1e3) + " mm is beyond needle '" + ns.name + "''s length " +
+                         std::to_string(ns.length * 1e3) + " mm");
+  if (e.action == "needle" && !ns.guide.empty()) {
+    // in the probe's guide: the depth along the guide wherever the probe is
+    c.kind = CommandKind::NeedleDepth;
+    c.insertion = e.depth;
+    c.value = needle_speed;
+    return c;
+  }
   if (e.action == "needle") {
     c.kind = CommandKind::NeedleAim;
     const Vec3 dir = ns.direction.normalized();

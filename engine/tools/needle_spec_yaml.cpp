@@ -21,7 +21,7 @@ NeedleSpec parse_needle(const YamlReader& r, const YAML::Node& v, int index) {
                "coupling_damping_n_s_m", "cutting_radius_mm", "friction_radius_mm",
                "press_stiffness_n_mm", "stick_stiffness_n_mm", "static_ratio", "cut_velocity_mm_s", "max_force_n",
                "max_speed_m_s", "plan_margin_mm", "start_mm", "direction", "script", "seeds_mm", "gun", "tumour",
-               "target_mm", "planned_site"});
+               "target_mm", "planned_site", "guide", "planned_sites"});
   NeedleSpec s;
   s.file = r.file();
   s.line = YamlReader::line_of(v);
@@ -56,8 +56,16 @@ NeedleSpec parse_needle(const YamlReader& r, const YAML::Node& v, int index) {
   pos("max_force_n", 1.0, s.max_force);
   pos("max_speed_m_s", 1.0, s.max_speed);
   pos("plan_margin_mm", kMm, s.plan_margin);
-  s.start = r.vec3(r.require(v, k, "start_mm"), k + ".start_mm", kMm);
-  s.direction = r.unit_vec3(r.require(v, k, "direction"), k + ".direction");
+  if (v["guide"]) {
+    s.guide = r.string(v["guide"], k + ".guide");
+    if (s.guide != "biopsy") r.fail(v["guide"], k + ".guide", "unknown guide '" + s.guide + "' (biopsy: the probe's biopsy guide)");
+    // in the guide the path is the probe's: start and direction follow its pose (build_scene)
+    if (v["start_mm"]) r.fail(v["start_mm"], k + ".start_mm", "a needle in the probe's guide takes its start from the probe");
+    if (v["direction"]) r.fail(v["direction"], k + ".direction", "a needle in the probe's guide takes its direction from the probe");
+  } else {
+    s.start = r.vec3(r.require(v, k, "start_mm"), k + ".start_mm", kMm);
+    s.direction = r.unit_vec3(r.require(v, k, "direction"), k + ".direction");
+  }
   if (const YAML::Node sc = v["script"]) {
     if (!sc.IsSequence()) r.fail(sc, k + ".script", "expected a list of [t_s, depth_mm]");
     for (size_t i = 0; i < sc.size(); ++i) {
@@ -95,6 +103,19 @@ NeedleSpec parse_needle(const YamlReader& r, const YAML::Node& v, int index) {
   }
   if (v["target_mm"]) s.target = r.vec3(v["target_mm"], k + ".target_mm", kMm);
   if (v["planned_site"]) s.planned_site = r.string(v["planned_site"], k + ".planned_site");
+  if (const YAML::Node ps = v["planned_sites"]) {
+    const std::string kp = k + ".planned_sites";
+    if (ps.IsScalar()) {
+      const std::string scheme = r.string(ps, kp);
+      if (scheme != "12-core") r.fail(ps, kp, "unknown scheme '" + scheme + "' (12-core, or a list of sites)");
+      s.planned_sites = twelve_core_sites();
+    } else if (ps.IsSequence()) {
+      for (size_t i = 0; i < ps.size(); ++i) s.planned_sites.push_back(r.string(ps[i], kp + "[" + std::to_string(i) + "]"));
+    } else {
+      r.fail(ps, kp, "expected 12-core or a list of sites");
+    }
+    if (!s.gun) r.fail(ps, kp, "planned core sites need a biopsy gun");
+  }
   validate_needle_spec(s);
   return s;
 }
