@@ -111,9 +111,10 @@ TEST(Biopsy, CoreAimedAtTheLesionOfTheDefaultAnatomyIsNamedByItsZones) {
   const Vec3 start = lesion + (14e-3 - 1e-3) * d;   // tip after the 1 mm stroke: lesion + 14 mm
   char start_mm[96];
   std::snprintf(start_mm, sizeof start_mm, "start_mm: [%.4f, %.4f, %.4f]", start.x() * 1e3, start.y() * 1e3, start.z() * 1e3);
-  replace_once(y, "start_mm: [0, -20.6, -19]", start_mm);
-  replace_once(y, "direction: [0, 0.4226, 0.9063]",
-               "direction: [0, 0.342, 0.940]\n      gun: {fire_s: 0.001, stroke_mm: 1, notch_radius_mm: 3.5}");
+  // the shipped needle rides in the probe's guide; this one is placed by hand instead
+  replace_once(y, "\n      guide: biopsy", "\n      " + std::string(start_mm) + "\n      direction: [0, 0.342, 0.940]");
+  replace_once(y, "gun: {}", "gun: {fire_s: 0.001, stroke_mm: 1, notch_radius_mm: 3.5}");
+  replace_once(y, "\n      planned_sites: 12-core", "");
   if (HasFatalFailure()) return;
   test::NeedleScene s;   // as make_needle_scene, but the mesh paths resolve next to config/biopsy.yaml
   s.spec = parse_scenario_text(y, file);
