@@ -1,8 +1,8 @@
 // `prostatesim bench [--quick] [--out DIR] [--json FILE]`: run time against error.
 //  1. Real-time figures of the default scenes with their instruments active: each scene driven by
 //     its trainee script (config/scripts/<scene>.yaml: probe pushed onto the gland, needle advanced
-//     and fired, or inserted), lock-step, unpaced: simulated seconds per wall second,
-//     99th-percentile tick time, particles;
+//     and fired, or inserted), lock-step, unpaced: simulated seconds per wall second, the tick's
+//     median and 99th percentile in wall and thread CPU time, preempted ticks, particles;
 //     and the substep time of the 1331-particle cube (the paper's "1300 particles").
 //  2. Run time against error: a locally loaded block (a 1 N force on a 12 x 12 mm patch of the
 //     top of a 48 mm cube, bottom fixed) for each model, spacing and substep count, its displacement
@@ -30,6 +30,7 @@
 #include "engine/io/png_write.h"
 #include "engine/realtime/scripted_run.h"
 #include "engine/scenario/compile.h"
+#include "engine/scenario/material_models.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/util/atomic_file.h"
 #include "engine/util/error.h"
@@ -309,8 +310,8 @@ void add_bench_command(CLI::App& app, Runner& run) {
       const double ref_spacing = a->quick ? 4.0 : 3.0;
       const std::vector<int> factors = a->quick ? std::vector<int>{1} : std::vector<int>{1, 2};
       // simulated time per scene for the real-time figures: the whole script (biopsy 3 s,
-      // brachytherapy 6.5 s), at most 10 s. A p99 needs thousands of ticks: over the 50 ticks
-      // --quick used to run, it was the slowest one, the first tick's setup included.
+      // brachytherapy 6.5 s), at most 10 s. A p99 needs thousands of ticks: over 50 it would be the
+      // slowest one, the first tick's setup included.
       const double rt_seconds = 10.0;
       const int work = 3 + 1 + static_cast<int>(models.size() * spacings.size() * factors.size());
       Progress progress("bench", work);
@@ -356,7 +357,7 @@ void add_bench_command(CLI::App& app, Runner& run) {
         if (c.name == "prostate") {
           ship_spacing = c.spacing * 1e3;
           for (const auto& m : biopsy.materials)
-            if (m.name == c.material) ship_model = m.tet_model ? "tet" : m.strain_model ? "strain" : "paper";
+            if (m.name == c.material) ship_model = material_model(m.model).name;
         }
       std::vector<Config> cs;
       for (const auto& m : models)
@@ -421,8 +422,10 @@ void add_bench_command(CLI::App& app, Runner& run) {
                                 {"pareto", c.pareto}, {"shipped", c.shipped}});
       if (!a->json.empty()) write_file_atomic(a->json, j.dump(2) + "\n");
       for (const std::string scene : {"biopsy", "brachytherapy"})
-        std::printf("%-14s realtime factor %.3g, tick p99 %.0f us wall / %.0f us CPU (period %.0f us), %lld of %lld ticks preempted\n",
-                    scene.c_str(), j["realtime_factor_" + scene].get<double>(), j["tick_p99_us_" + scene].get<double>(),
+        std::printf("%-14s realtime factor %.3g, tick median %.0f / p99 %.0f us wall, %.0f / %.0f us CPU (period %.0f us), "
+                    "%lld of %lld ticks preempted\n",
+                    scene.c_str(), j["realtime_factor_" + scene].get<double>(), j["tick_median_us_" + scene].get<double>(),
+                    j["tick_p99_us_" + scene].get<double>(), j["tick_median_cpu_us_" + scene].get<double>(),
                     j["tick_p99_cpu_us_" + scene].get<double>(), j["tick_period_us_" + scene].get<double>(),
                     static_cast<long long>(j["ticks_preempted_" + scene].get<int64_t>()),
                     static_cast<long long>(j["ticks_" + scene].get<int64_t>()));

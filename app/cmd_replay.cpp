@@ -24,14 +24,13 @@
 #include "app/cli_ranges.h"
 #include "app/commands.h"
 #include "app/output_paths.h"
-#include "app/run_session.h"
+#include "app/core/run_session.h"
 #include "app/session_capture.h"
 #include "engine/util/error.h"
 
 namespace ps::app {
 
 namespace {
-ReplayFrames g_frames;
 
 struct ReplayArgs {
   std::string scenario, recording, script, save_on_fault, inject, state;
@@ -92,9 +91,9 @@ int replay(const ReplayArgs& a) {
                   start_state.time, hex16(start_state.state_hash).c_str());
   }
   int rc = kExitOk;
-  if (g_frames.run && g_frames.wanted && g_frames.wanted()) {
+  if (replay_frames().run && replay_frames().wanted && replay_frames().wanted()) {
     ReplaySession session{scene, runner, end_tick, a.scenario};
-    rc = g_frames.run(session);
+    rc = replay_frames().run(session);
   }
   runner.advance_to(end_tick);
   const uint64_t h = runner.hash();
@@ -141,9 +140,6 @@ int replay(const ReplayArgs& a) {
 }
 }  // namespace
 
-void register_replay_frames(ReplayFrames f) { g_frames = f; }
-const ReplayFrames& replay_frames() { return g_frames; }
-
 void add_replay_command(CLI::App& app, Runner& run) {
   auto a = std::make_shared<ReplayArgs>();
   CLI::App* sub = app.add_subcommand("replay", "replay a recording (or a script) headless, bit for bit, and print the state hash");
@@ -162,7 +158,7 @@ void add_replay_command(CLI::App& app, Runner& run) {
   sub->add_option("--report", a->report, "session report folder: metrics.json (score), report.png, force-depth CSVs");
   sub->add_option("--trainee", a->trainee, "trainee name recorded in metrics.json");
   sub->add_option("--session", a->session, "session name in metrics.json (default: the report folder's name)");
-  if (g_frames.add_options) g_frames.add_options(*sub);
+  if (replay_frames().add_options) replay_frames().add_options(*sub);
   sub->callback([a, sub, &run] {
     if (a->recording.empty() && a->script.empty()) throw CLI::ValidationError("replay", "one of --recording or --script is required");
     run = [a] { return replay(*a); };

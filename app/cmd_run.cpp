@@ -30,7 +30,7 @@
 #include "app/cli_ranges.h"
 #include "app/commands.h"
 #include "app/output_paths.h"
-#include "app/run_session.h"
+#include "app/core/run_session.h"
 #include "app/session_capture.h"
 #include "engine/realtime/state_file.h"
 #include "engine/sim/watchdog.h"
@@ -41,8 +41,6 @@
 namespace ps::app {
 
 namespace {
-WindowFrontend g_window = nullptr;
-
 struct RunArgs {
   std::string scenario, script, record, device = "auto", probe_device = "none", save_on_fault, inject, state;
   std::string report, trainee, session;
@@ -57,32 +55,6 @@ bool have_display() {
 }
 }  // namespace
 
-void register_window_frontend(WindowFrontend f) { g_window = f; }
-
-FaultInjection parse_fault_injection(const std::string& spec) {
-  FaultInjection f;
-  if (spec.empty()) return f;
-  const auto at = spec.find('@');
-  const std::string kind = spec.substr(0, at);
-  if (at == std::string::npos || (kind != "nan" && kind != "throw"))
-    throw InputError("", 0, "--inject-fault", "expected nan@TICK or throw@TICK, got '" + spec + "'");
-  try {
-    f.tick = std::stoll(spec.substr(at + 1));
-  } catch (const std::exception&) {
-    throw InputError("", 0, "--inject-fault", "expected nan@TICK or throw@TICK, got '" + spec + "'");
-  }
-  f.internal = kind == "throw";
-  return f;
-}
-
-void save_fault_state(const std::string& path, SavedState st, const Scene& scene) {
-  st.scenario = scene.spec.name;
-  st.scenario_hash = scene.content_hash;
-  write_state_file(path, st);
-  std::fprintf(stderr, "last good state (tick %lld, t=%.4f s, state hash %s) saved to %s\n", static_cast<long long>(st.tick), st.time,
-               hex16(st.state_hash).c_str(), path.c_str());
-}
-WindowFrontend window_frontend() { return g_window; }
 
 int run_live(const RunArgs& a) {
   Scene scene = load_scene(a.scenario);
@@ -93,7 +65,8 @@ int run_live(const RunArgs& a) {
     script = std::make_unique<Script>(parse_script_file(a.script));
     player = std::make_unique<CommandPlayer>(script_commands(*script, scene));
   }
-  const bool windowed = g_window && !a.headless && have_display();
+  const WindowFrontend window = window_frontend();
+  const bool windowed = window && !a.headless && have_display();
   double duration = a.duration;
   if (duration <= 0 && !windowed) duration = script && script->duration > 0 ? script->duration : m.duration;
   const int64_t end_tick = duration > 0 ? static_cast<int64_t>(std::llround(duration / m.dt)) : -1;
@@ -182,7 +155,7 @@ int run_live(const RunArgs& a) {
   int rc = kExitOk;
   if (windowed) {
     RunSession session{scene, loop, script.get(), end_tick, a.scenario, mouse.get(), device.get(), rec != nullptr};
-    rc = g_window(session);
+    rc = window(session);
   } else {
     loop.wait_for_tick(end_tick);
   }

@@ -8,7 +8,7 @@
 
 #include "app/commands.h"
 #include "app/frames/replay_frames.h"
-#include "app/run_session.h"
+#include "app/core/run_session.h"
 #if PROSTATESIM_HAVE_GUI
 #include "app/gui/trainee_window.h"
 #endif
@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
   ps::app::add_stress_command(app, run);
   ps::app::add_bench_command(app, run);
   ps::app::add_edit_command(app, run);
-  // frontends (window, PNG frames) register in app/run_session.h before these two are added
+  // frontends (window, PNG frames) register in app/core/run_session.h before these two are added
   ps::app::register_replay_frames(ps::frames::replay_frames_frontend());
 #if PROSTATESIM_HAVE_GUI
   ps::app::register_window_frontend(&ps::gui::run_window);

@@ -7,6 +7,7 @@
 #include "engine/ultrasound/settings.h"
 #include "render/headless_context.h"
 #include "render/render_error.h"
+#include "render/offscreen_target.h"
 #include "render/renderer.h"
 
 namespace ps::app {

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "app/report_chart.h"
+#include "engine/contract/snapshot.h"
 #include "engine/metrics/session_metrics.h"
-#include "engine/realtime/snapshot.h"
 #include "engine/sim/scene.h"
 #include "engine/ultrasound/scene.h"
 

@@ -10,7 +10,7 @@
 
 #include "engine/model/model.h"
 #include "engine/realtime/soak.h"
-#include "engine/scenario/scenario_spec.h"
+#include "engine/spec/scenario_spec.h"
 
 namespace ps::app {
 

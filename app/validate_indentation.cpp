@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "engine/scenario/compile.h"
+#include "engine/scenario/material_models.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/run.h"
 #include "engine/step/stages.h"
@@ -150,9 +151,8 @@ IndentationAnswer run_indentation(const std::string& src, const std::string& nam
   for (auto& c : spec.components) c.spacing = spacing_mm * 1e-3;
   for (auto& mat : spec.materials) {
     if (model.empty()) continue;
-    mat.strain_model = model == "strain";
-    mat.tet_model = model == "tet";
     if (model != "paper" && model != "strain" && model != "tet") throw std::invalid_argument("unknown model '" + model + "'");
+    mat.model = find_material_model(model)->model;
   }
   const std::string field = name == "punch_halfspace" ? "punch_fem_field.txt" : "sphere_fem_field.txt";
   const FemField fem = load_fem(src + "/docs/reference/" + field);

@@ -3,7 +3,7 @@
 // the largest particle speed with its particle and organ and the first needle's tip speed; then
 // the run's peak. SUBSTEPS > 0 and MASS_SCALING 0/1 override the file's solver settings, so the
 // shipped setting and a converged one (e.g. 12 substeps) can be compared event by event. It is
-// how docs/robustness.md ("Prostate particle 208") tells a physical event (the converged run has
+// how docs/robustness.md tells a physical event (the converged run has
 // it too) from a numerical one (it does not).
 #include <cmath>
 #include <cstdio>

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "engine/realtime/snapshot.h"
+#include "engine/contract/snapshot.h"
 #include "render/render_scene.h"
 
 namespace ps::render {

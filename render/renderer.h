@@ -2,15 +2,17 @@
 // snapshot's DrawList (tools describe themselves; the renderer knows no tool), lesion and target
 // markers, the urethra, optional displacement colouring with a colour bar, force arrows, a small
 // heads-up display. The same code draws into the GLFW window and into an offscreen framebuffer.
-// Needs a current GL context with the table of gl_api.h loaded.
+// Needs a current GL context with the table of gl_api.h loaded. renderer.cpp updates and draws;
+// its programs are in shaders.cpp, its batches in primitive_batches.{h,cpp}, the 2D overlay and
+// HUD in hud.cpp; headless views draw into an OffscreenTarget (offscreen_target.h).
 #pragma once
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "engine/contract/snapshot.h"
 #include "engine/draw/draw_sink.h"
-#include "engine/realtime/snapshot.h"
 #include "render/camera.h"
 #include "render/render_scene.h"
 
@@ -59,25 +61,6 @@ class Renderer {
   std::unique_ptr<Gpu> gpu_;
   std::vector<ToolReadout> tools_;    // read-outs of the last update (capacity kept)
   double last_time_ = 0.0;
-};
-
-// A multisampled offscreen framebuffer (colour + depth) with a single-sample resolve target.
-class OffscreenTarget {
- public:
-  // 1..8192 per side; samples 0 or 1 = no multisampling. Throws RenderError.
-  OffscreenTarget(int width, int height, int samples = 4);
-  ~OffscreenTarget();
-  OffscreenTarget(const OffscreenTarget&) = delete;
-  OffscreenTarget& operator=(const OffscreenTarget&) = delete;
-  void bind();                                   // draw into it
-  void read_rgb(std::vector<uint8_t>& rgb);      // resolve, read back, rows top-down (3 w h bytes)
-  int width() const { return w_; }
-  int height() const { return h_; }
-
- private:
-  int w_, h_, samples_;
-  unsigned fbo_ms_ = 0, colour_ms_ = 0, depth_ms_ = 0, fbo_ = 0, colour_ = 0, depth_ = 0;
-  std::vector<uint8_t> scratch_;
 };
 
 // Viridis-like colour of t in [0, 1] (displacement colour bar; also in the shader).

@@ -1,9 +1,7 @@
 #include "app/editor/editor_window.h"
 
 #define GLFW_INCLUDE_NONE
-#include <GLFW/glfw3.h>
-#include <backends/imgui_impl_glfw.h>
-#include <backends/imgui_impl_opengl3.h>
+#include <GLFW/glfw3.h>  // key codes (ImGui 1.86 reads keys by GLFW code)
 #include <imgui.h>
 
 #include <algorithm>
@@ -17,7 +15,7 @@
 
 #include "app/editor/editor_commands.h"
 #include "app/editor/view_drag.h"
-#include "engine/io/png_write.h"
+#include "app/window/app_window.h"
 #include "engine/realtime/lockstep.h"
 #include "engine/tools/needle.h"
 #include "engine/util/error.h"
@@ -133,21 +131,6 @@ void rebuild(Preview& p, const EditorCommands& c, Ui& ui) {
     p.scene.reset();
     p.runner.reset();
     p.renderer.reset();
-  }
-}
-
-void write_screenshot(const std::string& path, int fbw, int fbh, int& rc) {
-  std::vector<uint8_t> rgba(4 * static_cast<size_t>(fbw) * fbh), rgb(3 * static_cast<size_t>(fbw) * fbh);
-  gl::api.PixelStorei(GL_PACK_ALIGNMENT, 1);
-  gl::api.ReadPixels(0, 0, fbw, fbh, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-  for (int y = 0; y < fbh; ++y)
-    for (int x = 0; x < fbw; ++x)
-      for (int k = 0; k < 3; ++k) rgb[3 * (static_cast<size_t>(y) * fbw + x) + k] = rgba[4 * (static_cast<size_t>(fbh - 1 - y) * fbw + x) + k];
-  try {
-    write_png_atomic(path, fbw, fbh, 3, rgb.data());
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    rc = 2;
   }
 }
 
@@ -424,39 +407,10 @@ int run_editor(const EditorArgs& a) {
     }
   }
 
-  glfwSetErrorCallback([](int code, const char* msg) { std::fprintf(stderr, "GLFW error %d: %s\n", code, msg); });
-  if (!glfwInit()) {
-    std::fprintf(stderr, "error: cannot open a window (no display?)\n");
-    return 4;
-  }
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  glfwWindowHint(GLFW_SAMPLES, 4);
-  GLFWwindow* win = glfwCreateWindow(1600, 900, "ProstateSim scenario editor", nullptr, nullptr);
-  if (!win) {
-    glfwTerminate();
-    std::fprintf(stderr, "error: cannot create an OpenGL 3.3 core window\n");
-    return 4;
-  }
-  glfwMakeContextCurrent(win);
-  glfwSwapInterval(1);
-  try {
-    gl::load([](const char* n) { return reinterpret_cast<void*>(glfwGetProcAddress(n)); });
-  } catch (const render::RenderError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    glfwDestroyWindow(win);
-    glfwTerminate();
-    return 4;
-  }
-  IMGUI_CHECKVERSION();
-  ImGui::CreateContext();
+  const std::unique_ptr<window::AppWindow> win =
+      window::AppWindow::open("ProstateSim scenario editor", 1600, 900, "error: cannot open a window (no display?)");
+  if (!win) return 4;
   ImGuiIO& io = ImGui::GetIO();
-  io.IniFilename = nullptr;
-  ImGui::StyleColorsDark();
-  ImGui_ImplGlfw_InitForOpenGL(win, true);
-  ImGui_ImplOpenGL3_Init("#version 330");
   {
     Ui ui;
     Preview pv;
@@ -464,8 +418,8 @@ int run_editor(const EditorArgs& a) {
     std::string shown_text;  // document text the preview was built from
     bool scripted_preview_done = false;
     int frame = 0;
-    while (!glfwWindowShouldClose(win)) {
-      glfwPollEvents();
+    while (!win->should_close()) {
+      win->poll_events();
       if (cmds && cmds->doc().text() != shown_text) {
         rebuild(pv, *cmds, ui);
         shown_text = cmds->doc().text();
@@ -482,8 +436,7 @@ int run_editor(const EditorArgs& a) {
         const int n = std::max(1, static_cast<int>(std::lround(0.016 / pv.scene->model->dt)));
         for (int k = 0; k < std::min(n, 8); ++k) pv.runner->step();
       }
-      ImGui_ImplOpenGL3_NewFrame();
-      ImGui_ImplGlfw_NewFrame();
+      win->new_backend_frame();
       ImGui::NewFrame();
       const ImVec2 ds = io.DisplaySize;
       ImGui::SetNextWindowPos(ImVec2(0, 0));
@@ -569,12 +522,8 @@ int run_editor(const EditorArgs& a) {
 
       ImGui::Render();
       int fbw = 0, fbh = 0;
-      glfwGetFramebufferSize(win, &fbw, &fbh);
+      win->clear_framebuffer(fbw, fbh);
       const float sx = ds.x > 0 ? fbw / ds.x : 1.0f, sy = ds.y > 0 ? fbh / ds.y : 1.0f;
-      gl::api.BindFramebuffer(GL_FRAMEBUFFER, 0);
-      gl::api.Viewport(0, 0, fbw, fbh);
-      gl::api.ClearColor(0.05f, 0.05f, 0.06f, 1.0f);
-      gl::api.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
       if (pv.renderer && pv.runner) {
         try {
           const Snapshot& snap = pv.runner->snapshot();
@@ -588,21 +537,16 @@ int run_editor(const EditorArgs& a) {
           pv.renderer.reset();
         }
       }
-      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      win->draw_imgui();
       ++frame;
-      const bool ending = glfwWindowShouldClose(win) || (a.frames >= 0 && frame >= a.frames);
+      const bool ending = win->should_close() || (a.frames >= 0 && frame >= a.frames);
       if (ending) {
-        if (!a.screenshot.empty()) write_screenshot(a.screenshot, fbw, fbh, rc);
-        glfwSetWindowShouldClose(win, GLFW_TRUE);
+        if (!a.screenshot.empty() && !window::write_framebuffer_png(a.screenshot, fbw, fbh)) rc = 2;
+        win->close();
       }
-      glfwSwapBuffers(win);
+      win->swap();
     }
   }
-  ImGui_ImplOpenGL3_Shutdown();
-  ImGui_ImplGlfw_Shutdown();
-  ImGui::DestroyContext();
-  glfwDestroyWindow(win);
-  glfwTerminate();
   return rc;
 }
 

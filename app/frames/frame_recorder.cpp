@@ -18,6 +18,7 @@
 #include "engine/util/error.h"
 #include "engine/util/atomic_file.h"
 #include "render/headless_context.h"
+#include "render/offscreen_target.h"
 #include "render/renderer.h"
 
 namespace ps::frames {

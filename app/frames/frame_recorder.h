@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "app/frames/frame_options.h"
-#include "engine/realtime/snapshot.h"
+#include "engine/contract/snapshot.h"
 #include "engine/ultrasound/anatomy.h"
 #include "engine/ultrasound/settings.h"
 

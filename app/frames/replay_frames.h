@@ -1,4 +1,4 @@
-// The frames path of `prostatesim replay` (seam: app/run_session.h): the options --out DIR
+// The frames path of `prostatesim replay` (seam: app/core/run_session.h): the options --out DIR
 // [--size WxH] [--fps N] [--views 3d,...] [--force] [--displacement], and the run that steps the
 // lock-step runner to the end tick, feeds every tick's snapshot to a FrameRecorder (event log,
 // force versus depth) and renders a frame every 1/fps simulated seconds (and the last tick).
@@ -9,7 +9,7 @@
 #include <string>
 
 #include "app/frames/frame_recorder.h"
-#include "app/run_session.h"
+#include "app/core/run_session.h"
 
 namespace ps::frames {
 

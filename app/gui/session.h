@@ -7,7 +7,7 @@
 #include <span>
 #include <string>
 
-#include "app/run_session.h"
+#include "app/core/run_session.h"
 #include "engine/sim/watchdog.h"
 #include "render/renderer.h"
 

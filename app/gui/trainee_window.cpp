@@ -1,9 +1,7 @@
 #include "app/gui/trainee_window.h"
 
 #define GLFW_INCLUDE_NONE
-#include <GLFW/glfw3.h>
-#include <backends/imgui_impl_glfw.h>
-#include <backends/imgui_impl_opengl3.h>
+#include <GLFW/glfw3.h>  // key codes (ImGui 1.86 reads keys by GLFW code)
 #include <imgui.h>
 
 #include <algorithm>
@@ -22,7 +20,7 @@
 #include "app/gui/plot_axes.h"
 #include "app/gui/session.h"
 #include "app/gui/ultrasound_worker.h"
-#include "engine/io/png_write.h"
+#include "app/window/app_window.h"
 #include "haptics/mouse_keyboard.h"
 #include "engine/util/error.h"
 #include "render/gl_api.h"
@@ -282,43 +280,15 @@ void help_overlay(Ui& ui) {
 }  // namespace
 
 int run_window(app::RunSession& run) {
-  glfwSetErrorCallback([](int code, const char* msg) { std::fprintf(stderr, "GLFW error %d: %s\n", code, msg); });
-  if (!glfwInit()) {
-    std::fprintf(stderr, "error: cannot open a window (no display?); use `prostatesim replay ... --out DIR` for headless frames\n");
-    return 4;
-  }
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  glfwWindowHint(GLFW_SAMPLES, 4);
   const char* shot_env = std::getenv("PROSTATESIM_SCREENSHOT");
   const std::string screenshot = shot_env ? shot_env : "";
-  GLFWwindow* win = glfwCreateWindow(1600, 900, "ProstateSim trainee", nullptr, nullptr);
-  if (!win) {
-    glfwTerminate();
-    std::fprintf(stderr, "error: cannot create an OpenGL 3.3 core window\n");
-    return 4;
-  }
-  glfwMakeContextCurrent(win);
-  glfwSwapInterval(1);
+  const std::unique_ptr<window::AppWindow> win = window::AppWindow::open(
+      "ProstateSim trainee", 1600, 900,
+      "error: cannot open a window (no display?); use `prostatesim replay ... --out DIR` for headless frames");
+  if (!win) return 4;
   int rc = 0;
   {
-    try {
-      gl::load([](const char* n) { return reinterpret_cast<void*>(glfwGetProcAddress(n)); });
-    } catch (const render::RenderError& e) {
-      std::fprintf(stderr, "error: %s\n", e.what());
-      glfwDestroyWindow(win);
-      glfwTerminate();
-      return 4;
-    }
-    IMGUI_CHECKVERSION();
-    ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
-    io.IniFilename = nullptr;
-    ImGui::StyleColorsDark();
-    ImGui_ImplGlfw_InitForOpenGL(win, true);
-    ImGui_ImplOpenGL3_Init("#version 330");
 
     Ui ui;
     ClickScript clicks(std::getenv("PROSTATESIM_CLICKS"));
@@ -350,10 +320,9 @@ int run_window(app::RunSession& run) {
     std::string pending_path, pending_record, pending_log;
     auto last = std::chrono::steady_clock::now();
     bool up_held = false, down_held = false;
-    while (!glfwWindowShouldClose(win)) {
-      glfwPollEvents();
-      ImGui_ImplOpenGL3_NewFrame();
-      ImGui_ImplGlfw_NewFrame();
+    while (!win->should_close()) {
+      win->poll_events();
+      win->new_backend_frame();
       clicks.feed(io);
       ImGui::NewFrame();
       Session& s = *session;
@@ -590,45 +559,28 @@ int run_window(app::RunSession& run) {
       }
       ImGui::Render();
       int fbw = 0, fbh = 0;
-      glfwGetFramebufferSize(win, &fbw, &fbh);
+      win->clear_framebuffer(fbw, fbh);
       const float sx = ds.x > 0 ? fbw / ds.x : 1.0f, sy = ds.y > 0 ? fbh / ds.y : 1.0f;
-      gl::api.BindFramebuffer(GL_FRAMEBUFFER, 0);
-      gl::api.Viewport(0, 0, fbw, fbh);
-      gl::api.ClearColor(0.05f, 0.05f, 0.06f, 1.0f);
-      gl::api.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
       s.renderer().update(snap);
       ui.ropt.viewport_x = static_cast<int>(vx * sx);
       ui.ropt.viewport_y = 0;
       ui.ropt.title = s.name() + "  [" + render::view_name(ui.view) + "]" + (ui.paused ? "  PAUSED" : "");
       s.renderer().render(render::preset_camera(ui.view, s.renderer().scene(), &snap, ui.orbit), static_cast<int>(vw * sx),
                           static_cast<int>(vh * sy), ui.ropt);
-      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      win->draw_imgui();
       ++frame;
-      bool ending = glfwWindowShouldClose(win) || (s.end_tick() >= 0 && snap.tick >= s.end_tick());
+      bool ending = win->should_close() || (s.end_tick() >= 0 && snap.tick >= s.end_tick());
       // a screenshot waits (up to ~5 s) for the first ultrasound image from the worker thread
-      if (ending && !screenshot.empty() && !glfwWindowShouldClose(win) && us.worker && !us.have && us_wait < 500) {
+      if (ending && !screenshot.empty() && !win->should_close() && us.worker && !us.have && us_wait < 500) {
         ending = false;
         ++us_wait;
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
       }
       if (ending) {
-        if (!screenshot.empty()) {
-          std::vector<uint8_t> rgba(4 * static_cast<size_t>(fbw) * fbh), rgb(3 * static_cast<size_t>(fbw) * fbh);
-          gl::api.PixelStorei(GL_PACK_ALIGNMENT, 1);
-          gl::api.ReadPixels(0, 0, fbw, fbh, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-          for (int y = 0; y < fbh; ++y)
-            for (int x = 0; x < fbw; ++x)
-              for (int c = 0; c < 3; ++c) rgb[3 * (static_cast<size_t>(y) * fbw + x) + c] = rgba[4 * (static_cast<size_t>(fbh - 1 - y) * fbw + x) + c];
-          try {
-            ps::write_png_atomic(screenshot, fbw, fbh, 3, rgb.data());
-          } catch (const std::exception& e) {
-            std::fprintf(stderr, "error: %s\n", e.what());
-            rc = 2;
-          }
-        }
-        glfwSetWindowShouldClose(win, GLFW_TRUE);
+        if (!screenshot.empty() && !window::write_framebuffer_png(screenshot, fbw, fbh)) rc = 2;
+        win->close();
       }
-      glfwSwapBuffers(win);
+      win->swap();
       const auto now = std::chrono::steady_clock::now();
       ui.frame_ms = 0.9 * ui.frame_ms + 0.1 * std::chrono::duration<double, std::milli>(now - last).count();
       last = now;
@@ -638,12 +590,7 @@ int run_window(app::RunSession& run) {
       }
     }
     session.reset();  // stops the physics thread, finishes a recording
-    ImGui_ImplOpenGL3_Shutdown();
-    ImGui_ImplGlfw_Shutdown();
-    ImGui::DestroyContext();
   }
-  glfwDestroyWindow(win);
-  glfwTerminate();
   return rc;
 }
 

@@ -1,4 +1,4 @@
-// The trainee window, registered as the window frontend of `prostatesim run` (app/run_session.h):
+// The trainee window, registered as the window frontend of `prostatesim run` (app/core/run_session.h):
 // GLFW + Dear ImGui around the 3D view of render/. The physics runs on its own thread
 // (engine/realtime/physics_loop.h); the window reads the snapshots it publishes and pushes
 // commands, so the physics never waits for the UI. Panels: instruments (probe pose, needle
@@ -14,7 +14,7 @@
 // clicks the buttons labelled A, then B, as soon as each is shown, through ImGui's mouse input
 // (tests/app/window_recovery_test.cpp).
 #pragma once
-#include "app/run_session.h"
+#include "app/core/run_session.h"
 
 namespace ps::gui {
 

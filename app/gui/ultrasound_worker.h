@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-#include "engine/realtime/snapshot.h"
+#include "engine/contract/snapshot.h"
 #include "engine/ultrasound/imager.h"
 
 namespace ps {

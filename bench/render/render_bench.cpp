@@ -17,6 +17,7 @@
 #include "render/gl_api.h"
 #include "render/headless_context.h"
 #include "render/post_antialias.h"
+#include "render/offscreen_target.h"
 #include "render/renderer.h"
 
 namespace {

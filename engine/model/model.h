@@ -188,8 +188,8 @@ struct TetElements {
 // each substep h solves the linearised backward-Euler (XPBD) step
 //   (J W J^T + alpha / h^2) dlambda = -C(x) - alpha/h^2 lambda,   x += W J^T dlambda,
 // with J = dC/dx and W the inverse inertial masses (0 on fixed axes). The matrix is taken at rest
-// and factored once (sparse LDL^T, fill-reducing order): the pressure wave, which set the explicit
-// substep at nu 0.49, no longer limits it, and the solve is exact in one step for a linear
+// and factored once (sparse LDL^T, fill-reducing order): the pressure wave, which would set an
+// explicit substep at nu 0.49, does not limit it, and the solve is exact in one step for a linear
 // constraint; `iterations` re-linearise at the current positions.
 struct TetPressure {
   std::vector<int> row_slot;       // [k] tet node slot (TetElements::nodes index) of row r, ascending

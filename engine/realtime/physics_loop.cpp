@@ -184,8 +184,8 @@ void PhysicsLoop::update_window(double now, bool force) {
   t.sim_time = sim.state().time;
   const int64_t dticks = runner_.tick() - window_tick0_;
   // the closing update (force) often finds a window that has just begun, with no tick or a few in
-  // it: it keeps the last whole window's figures (it used to report 0 ticks/s and a 0 ms p99 at
-  // stop) and updates only the running totals below; a run shorter than a window reports its own
+  // it: it keeps the last whole window's figures (not 0 ticks/s and a 0 ms p99 at stop) and
+  // updates only the running totals below; a run shorter than a window reports its own
   const bool window_figures = !force || !window_reported_ || (window_n_ > 0 && dticks > 0 && span >= 0.25);
   if (window_figures) {
     window_reported_ = true;

@@ -30,8 +30,6 @@
 
 namespace ps {
 
-inline constexpr int kStageCount = 23;  // engine/step/simulation.h Stage values (DampingUnshift is the last)
-
 struct LoopTiming {
   int64_t ticks = 0;               // ticks completed since start (or reset)
   double sim_time = 0.0;           // [s]

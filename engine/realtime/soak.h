@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/realtime/command.h"
+#include "engine/contract/command.h"
 #include "engine/realtime/state_file.h"
 #include "engine/realtime/script.h"
 #include "engine/sim/scene.h"
@@ -52,8 +52,8 @@ struct SoakOptions {
   // same phase of the looped script, or nothing moving without one), so the kinetic energy at the
   // end of a cycle grown past ring_factor times that at the first such cycle end, plus
   // ring_floor_j, is an instability feeding itself, not the script. It can stay below the
-  // watchdog's energy limit for good (a limit cycle of one particle at ~1.5 m/s was found so,
-  // docs/performance.md round 28), so it is a finding of its own. ring_factor 0: off.
+  // watchdog's energy limit for good (a bladder-wall particle's ~1.5 m/s limit cycle with
+  // multirate_inertia 4, docs/performance.md), so it is a finding of its own. ring_factor 0: off.
   double ring_factor = 100.0;  // [-]
   double ring_floor_j = 1e-7;  // [J] the scene's rest threshold (ScenarioSpec::rest_kinetic_energy)
   // A checkpoint (state and the figures so far) is handed to `checkpoint` every

@@ -78,9 +78,9 @@ SoakCheckpoint read_soak_checkpoint(const std::string& path, std::string& script
     if (std::sscanf(v.c_str(), f2.c_str(), out..., &used) != n || used != static_cast<int>(v.size()))
       throw InputError(path, ln, key, "expected " + std::to_string(n) + " number(s), got '" + v + "'");
   };
-  // version 2 added the self-excitation check's reference cycle to `cycle_end_kinetic`
+  // version 2: `cycle_end_kinetic` carries the self-excitation check's reference cycle
   if (next("prostatesim-soak") != "2")
-    throw InputError(path, 1, "prostatesim-soak", "not a version 2 soak checkpoint (version 1: written before Dec 7 2026; start the soak again)");
+    throw InputError(path, 1, "prostatesim-soak", "not a version 2 soak checkpoint (version 1 lacks the self-excitation check's reference cycle; start the soak again)");
   script = next("script");
   if (script == "-") script.clear();
   SoakCheckpoint c;

@@ -38,8 +38,8 @@ double estimate_stable_dt(const Model& model, TetPass pass = TetPass::All);
 // eigenvalue and the trace of the particle's own 3x3 block); sizes inertia (mass scaling,
 // multi-rate inertia). ElementBound: the nodal pressure counted per element, V0 kappa |g_i|^2, ~8x
 // the diagonal in nearly incompressible fat; gates the multi-rate slow group (the diagonal as the
-// gate let fat next to the rectal wall into it at a 1 ms tick, and the impulse resonance blew the
-// template plan up at 0.59 s: docs/performance.md, round 27).
+// gate lets fat next to the rectal wall into it at a 1 ms tick, and the impulse resonance blows the
+// template plan up at 0.59 s: docs/performance.md "What sets the limits").
 enum class ProxyForm { Diagonal, ElementBound };
 std::vector<double> stiffness_proxy(const Model& model, bool fast_only = false, ProxyForm form = ProxyForm::Diagonal);
 // solver.multirate: orders the tet elements fast first and sets TetElements::fast_count; an

@@ -23,11 +23,9 @@ struct CompileWork {
   std::vector<std::vector<std::array<int, 3>>> faces_of;  // [component] closed surface (global indices)
   std::vector<double> excluded_volume;                    // [component] volume of the organs inside [m^3]
   std::vector<StrainParticle> strain;                     // [particle] strain-model material (mu = 0: none)
-  bool any_strain = false;
   std::vector<TetParticle> tet;                           // [particle] tet-model material (mu = 0: none)
-  bool any_tet = false;
   std::vector<ShellParticle> shell;                       // [particle] shell-model material (mu = 0: none)
-  bool any_shell = false;
+  std::array<bool, kMaterialModelCount> uses_model{};     // [MaterialModel] some component uses it
   std::vector<std::string> warnings, notes;               // for CompileReport and Model::compile_warnings
 };
 
@@ -35,8 +33,8 @@ struct CompileWork {
 // particles of every component, contiguous per component: rest_pos, component_of, on_surface,
 // components; work.nbrs, faces_of, excluded_volume (compile_particles.cpp)
 void compile_particles(const ScenarioSpec& spec, Model& m, CompileWork& work);
-// mass, k_e, k_c, k_f, damping; work.strain, tet, shell; then overrides: (faces_of, excluded_volume)
-// (compile_material.cpp)
+// mass, k_e, k_c, k_f, damping; work.strain, tet, shell, uses_model (each material model's moduli,
+// material_models.h); then overrides: (faces_of, excluded_volume) (compile_material.cpp)
 void compile_material(const ScenarioSpec& spec, Model& m, CompileWork& work);
 // inv_mass, shape_memory, locked_axes; rigid_bodies (mass) (compile_rigid_bodies.cpp)
 void compile_rigid_bodies(const ScenarioSpec& spec, Model& m);
@@ -47,8 +45,8 @@ void compile_neighbours(const ScenarioSpec& spec, Model& m, CompileWork& work);
 void compile_constraints(const ScenarioSpec& spec, Model& m);
 // surfaces with rest volumes (work.faces_of) (compile_surfaces.cpp)
 void compile_surfaces(const ScenarioSpec& spec, Model& m, const CompileWork& work);
-// strain clusters, tet and shell elements (surfaces, work.strain, tet, shell); any_shape_memory
-// (compile_elements.cpp)
+// each used material model's elements: strain clusters, tet and shell elements (surfaces,
+// work.strain, tet, shell); any_shape_memory (compile_elements.cpp)
 void compile_elements(const ScenarioSpec& spec, Model& m, CompileWork& work);
 // fibre_pairs of active components (nbr) (compile_fibres.cpp)
 void compile_fibres(Model& m);

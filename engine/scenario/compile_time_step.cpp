@@ -10,6 +10,7 @@
 #include "engine/model/shell_elements.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/compile_stages.h"
+#include "engine/scenario/material_models.h"
 #include "engine/scenario/size_estimate.h"
 #include "engine/step/stages.h"
 #include "engine/util/error.h"
@@ -29,12 +30,10 @@ double damped_stable_step(double omega, double beta) {
 
 double estimate_stable_dt(const Model& m, TetPass pass) {
   const int n = m.particle_count();
-  const bool others = pass != TetPass::SlowOnly;  // the other force stages
+  // no elastic term: nothing limits the step (with one whose particles are all fixed the
+  // iteration below finds no force and gives the same)
   bool any = false;
-  for (int p = 0; p < n; ++p)
-    any |= ((m.shape_memory[p] || (!m.tets.node_slot.empty() && m.tets.node_slot[p] >= 0)) && m.inv_mass[p] > 0.0);
-  any |= m.strain.count() > 0;
-  any |= m.shells.triangle_count() > 0;
+  for (const MaterialModelDesc* model : material_models()) any |= model->present(m);
   if (!any) return std::numeric_limits<double>::infinity();
   State s = make_state(m);
   std::vector<Vec3> v(n), w(n);
@@ -53,10 +52,7 @@ double estimate_stable_dt(const Model& m, TetPass pass) {
     if (!(norm > 0.0)) break;
     const double eps = 1e-7 * std::max(scale, 1e-3) / norm;
     for (int p = 0; p < n; ++p) { s.x[p] = m.rest_pos[p] + eps * v[p]; s.f[p].setZero(); }
-    if (others) add_shape_memory_forces(m, s);
-    if (others && m.strain.count() > 0) add_strain_memory_forces(m, s, 50);  // R converged at each probe
-    if (m.tets.count() > 0) add_tet_elastic_forces(m, s, pass);
-    if (others && m.shells.triangle_count() > 0) add_shell_elastic_forces(m, s);
+    for (const MaterialModelDesc* model : material_models()) model->add_forces(m, s, pass);
     double wn = 0.0;
     for (int p = 0; p < n; ++p) {
       for (int a = 0; a < 3; ++a) w[p][a] = free_axis(p, a) ? -s.f[p][a] * m.inv_mass[p] / eps : 0.0;
@@ -125,77 +121,12 @@ void scale_inertia_to_substep(Model& m, double margin) {
   tally_added_inertia(m);
 }
 
-// Per-particle stiffness proxy d_p [N/m]: k_e of its own attractor plus the shares of the
-// attractors it enters (w^2 k_e), for strain clusters (2 mu V + lambda V) |g|^2 + k_r, for tet
-// elements the shear and nodal pressure terms below (the diagonals of the stiffness, or for the
-// nodal pressure an element bound). A lone particle on a spring d_p has omega^2 = d_p / m_p.
+// Per-particle stiffness proxy d_p [N/m], term by term in the order of the material models
+// (material_models.h: each model's add_stiffness says what its term contributes). A lone particle
+// on a spring d_p has omega^2 = d_p / m_p.
 std::vector<double> stiffness_proxy(const Model& m, bool fast_only, ProxyForm form) {
-  const int n = m.particle_count();
-  std::vector<double> d(n, 0.0);
-  for (int p = 0; p < n; ++p) {
-    if (!m.shape_memory[p]) continue;
-    d[p] += m.k_e[p];
-    for (int a = m.nbr_start[p]; a < m.nbr_start[p + 1]; ++a) d[m.nbr[a]] += m.k_e[p] * m.nbr_w[a] * m.nbr_w[a];
-  }
-  const StrainClusters& sc = m.strain;
-  for (int c = 0; c < sc.count(); ++c)
-    for (int i = sc.start[c]; i < sc.start[c + 1]; ++i)
-      d[sc.member[i]] += (sc.mu2v[c] + sc.k_v[c]) * sc.g[i].squaredNorm() + sc.k_r[c];
-  // tet elements (fast_only: the multi-rate fast group's elements, those that set the substep).
-  // Shear: V0 mu |g_i|^2 per vertex, the diagonal of the element's deviatoric stiffness at rest.
-  // Volume, ProxyForm::Diagonal: the diagonal of the nodal pressure term itself, kappa_n / V0_n
-  // |dV_n/dx_p|^2 summed over the nodes n whose volume share x_p moves, with dV_n/dx_p = 1/4 sum
-  // over the elements holding both n and p of V0_t g_p (at rest). The elements' gradients around a
-  // node largely cancel in that sum (exactly, for an interior node's own share), so it is ~8x below
-  // ProxyForm::ElementBound's V0 kappa |g_i|^2, each element's volume stiffness counted whole as
-  // if it kept its own volume (fat and skin of the default anatomy: mean 8.0x, largest ratio to the
-  // mass 16x). The diagonal sizes inertia; the element bound gates the multi-rate slow group.
-  const TetElements& te = m.tets;
-  const int nt_proxy = fast_only ? te.fast_count : te.count();
-  const bool diagonal = form == ProxyForm::Diagonal;
-  std::vector<std::vector<std::pair<int, Vec3>>> share_grad(diagonal ? te.nodes.size() : 0);  // [node] (p, dV_n/dx_p)
-  for (int t = 0; t < nt_proxy; ++t) {
-    const double* g = &te.g[9 * t];
-    const Vec3 g1(g[0], g[1], g[2]), g2(g[3], g[4], g[5]), g3(g[6], g[7], g[8]), g0 = -(g1 + g2 + g3);
-    const Vec3 gi[4] = {g0, g1, g2, g3};
-    const int* v = &te.v[4 * t];
-    if (!diagonal) {
-      for (int i = 0; i < 4; ++i) d[v[i]] += te.vol0[t] * (te.mu[t] + te.node_kappa_explicit[te.node_slot[v[i]]]) * gi[i].squaredNorm();
-      continue;
-    }
-    for (int i = 0; i < 4; ++i) d[v[i]] += te.vol0[t] * te.mu[t] * gi[i].squaredNorm();
-    for (int j = 0; j < 4; ++j) {
-      const int slot = te.node_slot[v[j]];
-      if (te.node_kappa_explicit[slot] == 0.0) continue;  // implicit pressure: not a force
-      auto& list = share_grad[slot];
-      for (int i = 0; i < 4; ++i) {
-        auto it = std::find_if(list.begin(), list.end(), [&](const auto& e) { return e.first == v[i]; });
-        const Vec3 add = 0.25 * te.vol0[t] * gi[i];
-        if (it == list.end()) list.emplace_back(v[i], add);
-        else it->second += add;
-      }
-    }
-  }
-  for (size_t a = 0; a < share_grad.size(); ++a)
-    for (const auto& [p, grad] : share_grad[a]) d[p] += te.node_kappa_explicit[a] * te.node_inv_vol0[a] * grad.squaredNorm();
-  // shell triangles: A0 t (2 mu + lambda) |g_i|^2 per vertex (g_1, g_2 the rows of Dm^-1, g_0 minus
-  // their sum); hinges: k_h |d theta / d x_i|^2 at rest
-  const ShellElements& sh = m.shells;
-  for (int t = 0; t < sh.triangle_count(); ++t) {
-    const double* B = &sh.bm[4 * t];
-    const double k = sh.area_t[t] * (2.0 * sh.mu[t] + sh.lambda[t]);
-    const double g1 = B[0] * B[0] + B[1] * B[1], g2 = B[2] * B[2] + B[3] * B[3];
-    const double g0 = (B[0] + B[2]) * (B[0] + B[2]) + (B[1] + B[3]) * (B[1] + B[3]);
-    d[sh.tri[3 * t]] += k * g0;
-    d[sh.tri[3 * t + 1]] += k * g1;
-    d[sh.tri[3 * t + 2]] += k * g2;
-  }
-  for (int h = 0; h < sh.hinge_count(); ++h) {
-    const int* v = &sh.hinge[4 * h];
-    Vec3 g[4];
-    hinge_angle(m.rest_pos[v[0]], m.rest_pos[v[1]], m.rest_pos[v[2]], m.rest_pos[v[3]], g);
-    for (int i = 0; i < 4; ++i) d[v[i]] += sh.k_hinge[h] * g[i].squaredNorm();
-  }
+  std::vector<double> d(m.particle_count(), 0.0);
+  for (const MaterialModelDesc* model : material_models()) model->add_stiffness(m, fast_only, form, d);
   return d;
 }
 
@@ -289,8 +220,8 @@ std::string partition_tet_rates(Model& m, double margin) {
 // partition's own test on the proxy is >=, a = 1.1 keeps it clear of rounding), raised along a
 // ladder until the power-iteration estimate of the slow group admits the tick. A particle counts
 // as slow only where its proxy does: counting more (the proxy's need relaxed, relying on the
-// estimate alone) blew up the default scenes within 0.3 s at a 2 ms tick, at a wall's vertex and
-// in the fat (docs/performance.md, round 23). A particle that ends in no slow element keeps its
+// estimate alone) blows up the default scenes within 0.3 s at a 2 ms tick, at a wall's vertex and
+// in the fat (the impulse method's resonance). A particle that ends in no slow element keeps its
 // own mass. Returns false (the model as it came in) when no rung admits the tick.
 bool partition_tet_rates_with_inertia(Model& m, double margin, double max_factor, std::vector<std::string>& notes) {
   TetElements& te = m.tets;
@@ -311,7 +242,8 @@ bool partition_tet_rates_with_inertia(Model& m, double margin, double max_factor
   std::vector<uint8_t> slow(n, 0);
   // Rungs, tried in order until the slow group's estimate admits the tick: first the bound's gate
   // at 1.1 with the inertia sized on the diagonal, amplified step by step (at most max_factor);
-  // then the gate narrowed with the inertia sized on the bound (the form used until Dec 2026).
+  // then the gate narrowed with the inertia sized on the bound (a last resort: the bound reads the
+  // fat's nodal pressure ~8x stiffer than the diagonal, so it adds far more inertia).
   struct Rung {
     double gate, size;
     bool on_diagonal;
@@ -394,7 +326,7 @@ void compile_time_step(const ScenarioSpec& spec, Model& m, CompileWork& work) {
   const double h = m.dt / m.substeps;
   if (h > 0.9 * m.stable_dt_estimate) {
     // In double first: a stiffness like young_kpa 1e9 gives a stable step so small that the count
-    // overflows an int (it used to wrap to -2147483648 and the run "succeeded" with 0 steps).
+    // overflows an int (wrapped, it would run "successfully" with 0 steps).
     const double need_d = m.dt / (0.9 * m.stable_dt_estimate);
     if (!(need_d <= kMaxSubstepsPerTick)) {
       const MaterialSpec* stiff = nullptr;

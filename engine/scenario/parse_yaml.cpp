@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "engine/scenario/material_models.h"
 #include "engine/spec/yaml_reader.h"
 #include "engine/tools/needle_spec_yaml.h"
 #include "engine/tools/filling_parse.h"
@@ -106,35 +107,34 @@ MaterialSpec parse_material(const YamlReader& r, const std::string& name, const 
   if (v["k_f_n"]) m.k_f = r.ranged(v["k_f_n"], k + ".k_f_n", 0.0, kMaxNeedleWeightN, "N");
   if (v["model"]) {
     const std::string model = r.string(v["model"], k + ".model");
-    if (model == "strain") m.strain_model = true;
-    else if (model == "tet") m.tet_model = true;
-    else if (model == "shell") m.shell_model = true;
-    else if (model != "paper") r.fail(v["model"], k + ".model", "model must be paper, strain, tet or shell");
+    const MaterialModelDesc* desc = find_material_model(model);
+    if (!desc) r.fail(v["model"], k + ".model", "model must be paper, strain, tet or shell");
+    m.model = desc->model;
   }
   if (v["poisson"]) {
-    if (!m.strain_model && !m.tet_model && !m.shell_model)
+    if (m.model == MaterialModel::Paper)
       r.fail(v["poisson"], k + ".poisson", "poisson only applies to model: strain, tet or shell");
     m.poisson = r.non_negative(v["poisson"], k + ".poisson");
     if (!(*m.poisson < 0.5)) r.fail(v["poisson"], k + ".poisson", "must be in [0, 0.5)");
   }
   if (v["k_s_n_m"]) {
-    if (!m.strain_model) r.fail(v["k_s_n_m"], k + ".k_s_n_m", "k_s_n_m only applies to model: strain");
+    if (m.model != MaterialModel::Strain) r.fail(v["k_s_n_m"], k + ".k_s_n_m", "k_s_n_m only applies to model: strain");
     m.k_s = r.ranged(v["k_s_n_m"], k + ".k_s_n_m", 1e-6, kMaxStiffnessNm, "N/m");
   }
-  if (m.tet_model && !m.young) r.fail(v, k, "model: tet needs young_kpa");
+  if (m.model == MaterialModel::Tet && !m.young) r.fail(v, k, "model: tet needs young_kpa");
   if (v["pressure"]) {
-    if (!m.tet_model) r.fail(v["pressure"], k + ".pressure", "pressure only applies to model: tet");
+    if (m.model != MaterialModel::Tet) r.fail(v["pressure"], k + ".pressure", "pressure only applies to model: tet");
     const std::string how = r.string(v["pressure"], k + ".pressure");
     if (how == "implicit") m.implicit_pressure = true;
     else if (how != "explicit") r.fail(v["pressure"], k + ".pressure", "must be explicit or implicit");
   }
   if (v["thickness_mm"]) {
-    if (!m.shell_model) r.fail(v["thickness_mm"], k + ".thickness_mm", "thickness_mm only applies to model: shell");
+    if (m.model != MaterialModel::Shell) r.fail(v["thickness_mm"], k + ".thickness_mm", "thickness_mm only applies to model: shell");
     m.thickness = r.ranged(v["thickness_mm"], k + ".thickness_mm", 0.05, 50.0, "mm") * 1e-3;
   }
-  if (m.shell_model && !m.young) r.fail(v, k, "model: shell needs young_kpa");
-  if (m.shell_model && !m.thickness) r.fail(v, k, "model: shell needs thickness_mm (the wall thickness)");
-  if (m.strain_model && !m.young && !m.k_s)
+  if (m.model == MaterialModel::Shell && !m.young) r.fail(v, k, "model: shell needs young_kpa");
+  if (m.model == MaterialModel::Shell && !m.thickness) r.fail(v, k, "model: shell needs thickness_mm (the wall thickness)");
+  if (m.model == MaterialModel::Strain && !m.young && !m.k_s)
     r.fail(v, k, "model: strain needs young_kpa or k_s_n_m");
   return m;
 }

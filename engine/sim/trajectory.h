@@ -1,6 +1,6 @@
 // What a run of a scenario with its instruments does, tick by tick, for comparing a fast
-// configuration against a converged reference run (docs/performance.md "Error against the
-// reference"): the needle's axial force, its punctures, the prostate's and a target particle's
+// configuration against a converged reference run (docs/performance.md "Accuracy of the fast
+// settings"): the needle's axial force, its punctures, the prostate's and a target particle's
 // positions and the volume errors. Recording happens between ticks, never inside a step.
 #pragma once
 #include <memory>

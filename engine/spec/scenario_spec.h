@@ -2,6 +2,7 @@
 // conversion happens once, in parse_yaml.cpp). It is the editable form: the instructor editor
 // changes a ScenarioSpec, compile_scenario() turns it into an immutable Model.
 #pragma once
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,6 +27,10 @@ struct RegionSpec {
   bool contains(const Vec3& x) const;
 };
 
+// The material models, in the order of their force stages in a substep.
+enum class MaterialModel : uint8_t { Paper, Strain, Tet, Shell };
+inline constexpr int kMaterialModelCount = 4;
+
 struct MaterialSpec {
   std::string name;
   std::optional<double> young;     // Young's modulus [Pa]
@@ -36,14 +41,11 @@ struct MaterialSpec {
   double k_c = 0.0;                // needle cutting weight [N]
   double k_f = 0.0;                // needle friction weight [N]
   // model: paper (shape memory only, k_e = kappa(h) E h) | strain (shape memory + strain memory,
-  // docs/model.md); poisson and k_s only for strain
-  bool strain_model = false;
-  // model: tet (v2: elements over a Delaunay tetrahedralisation of the particles, docs/model.md
-  // "Tet model"); poisson applies to it too
-  bool tet_model = false;
-  // model: shell (membranes, fill: surface only: co-rotational triangles and dihedral hinges on the
-  // surface, docs/model.md "Shell model"); poisson applies, thickness is the wall's
-  bool shell_model = false;
+  // docs/model.md); tet (v2: elements over a Delaunay tetrahedralisation of the particles, "Tet
+  // model"); shell (membranes, fill: surface only: co-rotational triangles and dihedral hinges,
+  // "Shell model"). poisson applies to strain, tet and shell, k_s to strain, thickness to shell.
+  // What each compiles to and which force stage runs it: engine/scenario/material_models.h
+  MaterialModel model = MaterialModel::Paper;
   std::optional<double> thickness; // shell wall thickness [m]
   std::optional<double> poisson;   // local Poisson ratio of the strain term [-], in [0, 0.5)
   std::optional<double> k_s;       // raw strain stiffness: shear modulus x spacing [N/m]

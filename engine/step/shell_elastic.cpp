@@ -71,8 +71,8 @@ inline double membrane(const ShellElements& sh, const Vec3* x, int t, Vec3& a, V
 }
 
 // atan2(s, c) [rad]. A hinge's bend away from its rest angle is small nearly always, and there
-// glibc's atan2 (correctly rounded, with its range and special-case handling) was the largest
-// single cost of the shell stage (~11 % of a biopsy tick in perf). For |s| <= c / 4 (within 14
+// glibc's atan2 (correctly rounded, with its range and special-case handling) would be the
+// largest single cost of the shell stage (~11 % of a biopsy tick in perf). For |s| <= c / 4 (within 14
 // degrees) atan(s / c) is its odd Taylor series to z^25: the first term left out, |z|^27 / 27,
 // is below 8.3e-18 |z|, under half an ulp; the sum is in Estrin's form (short dependency chains).
 // Anything else goes to std::atan2.

@@ -16,28 +16,28 @@ void CommandRefusal::set(const char* msg) {
 const char* stage_name(Stage s) {
   switch (s) {
     case Stage::ImposedDisplacement: return "imposed_displacement";
+    case Stage::ToolBoundary: return "tool_boundary";
     case Stage::ExternalForces: return "external_forces";
+    case Stage::DampingShift: return "damping_shift";
     case Stage::ShapeMemory: return "shape_memory";
     case Stage::StrainMemory: return "strain_memory";
     case Stage::TetElastic: return "tet_elastic";
+    case Stage::ShellElastic: return "shell_elastic";
+    case Stage::DampingUnshift: return "damping_unshift";
     case Stage::ActiveFibres: return "active_fibres";
-    case Stage::ToolBoundary: return "tool_boundary";
     case Stage::ToolForces: return "tool_forces";
     case Stage::RigidForces: return "rigid_forces";
     case Stage::Integrate: return "integrate";
     case Stage::RigidIntegrate: return "rigid_integrate";
+    case Stage::TetPressure: return "tet_pressure";
     case Stage::LocalConstraints: return "local_constraints";
     case Stage::ToolConstraints: return "tool_constraints";
     case Stage::Volume: return "volume";
     case Stage::AdjustVelocity: return "adjust_velocity";
+    case Stage::TetTickEnd: return "tet_tick_end";
+    case Stage::Sleep: return "sleep";
     case Stage::Check: return "check";
     case Stage::ToolAfter: return "tool_after";
-    case Stage::ShellElastic: return "shell_elastic";
-    case Stage::TetTickEnd: return "tet_tick_end";
-    case Stage::TetPressure: return "tet_pressure";
-    case Stage::Sleep: return "sleep";
-    case Stage::DampingShift: return "damping_shift";
-    case Stage::DampingUnshift: return "damping_unshift";
   }
   return "?";
 }

@@ -92,12 +92,17 @@ class Tool {
   const StepContext* ctx_ = &kLoneStep;
 };
 
+// The stages of a substep, in the order build_pipeline runs them (Algorithm 1: boundary
+// conditions, forces, integrate, constraints, velocity adjust, check); a pipeline holds only
+// those the model and its tools need.
 enum class Stage : uint8_t {
-  ImposedDisplacement, ExternalForces, ShapeMemory, StrainMemory, TetElastic, ActiveFibres, ToolBoundary, ToolForces,
-  RigidForces, Integrate, RigidIntegrate, LocalConstraints, ToolConstraints, Volume,
-  AdjustVelocity, Check, ToolAfter, ShellElastic, TetTickEnd, TetPressure, Sleep,
-  DampingShift, DampingUnshift  // Model::stiffness_damping: the elastic stages between them see x + beta v
+  ImposedDisplacement, ToolBoundary, ExternalForces,
+  DampingShift,  // Model::stiffness_damping: the elastic stages up to DampingUnshift see x + beta v
+  ShapeMemory, StrainMemory, TetElastic, ShellElastic, DampingUnshift, ActiveFibres, ToolForces, RigidForces,
+  Integrate, RigidIntegrate, TetPressure, LocalConstraints, ToolConstraints, Volume,
+  AdjustVelocity, TetTickEnd, Sleep, Check, ToolAfter  // ToolAfter is the last (kStageCount)
 };
+inline constexpr int kStageCount = static_cast<int>(Stage::ToolAfter) + 1;
 const char* stage_name(Stage s);
 
 class Simulation {

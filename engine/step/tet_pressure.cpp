@@ -20,8 +20,8 @@ namespace ps {
 // dl over its implicit nodes (share) times the gradients of its volume, a quarter per node.
 // Four elements per vector: each lane does the scalar form's operations in its order (Eigen's
 // cross is a1 b2 - a2 b1 per component; share * 0.25 / 6 one product), and the four lanes are
-// added to dx one after the other in element order, an element whose share is zero skipped as
-// before: the same bits as one element at a time.
+// added to dx one after the other in element order, an element whose share is zero skipped as in
+// the scalar form: the same bits as one element at a time.
 PS_TARGET_CLONES("arch=x86-64-v4", "avx", "default")
 void pressure_corrections(const int* tv, const int* trow, int ntp, const double* dl, const Vec3* x, Vec3* dx) {
   typedef double D4 __attribute__((vector_size(32)));

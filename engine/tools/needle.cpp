@@ -260,9 +260,8 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
     // margin the compiler keeps for the tissue (0.9 of the explicit limit 2 sqrt(m / k), m the
     // lightest particle). The press force is also capped at the puncture threshold and critically
     // damped (needle_forces.cpp) and the stick springs are bounded per substep by the coupling
-    // budget (needle_coupling.cpp), so this flags a spring beyond the explicit limit itself. The
-    // old 0.5 margin flagged the default scenes at 3 substeps (0.333 ms against 0.247 ms) where
-    // the needle force is within 6 % of the 12-substep reference (docs/performance.md, round 5).
+    // budget (needle_coupling.cpp), so this flags a spring beyond the explicit limit itself (a
+    // margin of 0.5 would flag the default scenes, whose needle force is within the error budget).
     const double k_tool = std::max(spec.press_stiffness, spec.stick_stiffness);
     if (std::isfinite(m_min) && h_sub > 0.9 * 2.0 * std::sqrt(m_min / k_tool))
       warnings_.push_back("needle '" + spec.name + "': press/stick stiffness " + std::to_string(k_tool) +

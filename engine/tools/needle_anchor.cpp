@@ -43,10 +43,10 @@ void AffineAnchor::build(const Vec3& X, const int* ids, int n, const std::vector
     extrapolates |= w[a] < -kAnchorWeightMargin || w[a] > 1.0 + kAnchorWeightMargin;
   }
   // Extrapolating weights (X beside its particles, not among them: the nodes near a hole in a
-  // wall, held by 3-4 wall particles on one side) reached 6.3 and -2.8 with the paper's
-  // coordinates; the spring's reaction was multiplied on single light particles and the wall
-  // chattered at 1-5 m/s (docs/robustness.md, "The rectal wall at the hole"). Such an anchor, and
-  // one without a frame, takes the translation form.
+  // wall, held by 3-4 wall particles on one side) reach 6 and -3; the spring's reaction is then
+  // multiplied on single light particles and the wall chatters at 1-5 m/s (docs/robustness.md,
+  // "The needle's virtual particles"). Such an anchor, and one without a frame, takes the
+  // translation form.
   if (!extrapolates) {
     rotational = true;
   } else {

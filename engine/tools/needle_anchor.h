@@ -7,7 +7,7 @@
 //   P*(x) = sum_a w_a x_a + offset,   sum_a w_a = 1,   sum_a w_a N_a = X (within their span),
 // so its attractor follows the tissue's translation, rotation and local deformation, and is
 // linear in x: a force held on it adds no stiffness of its own (the paper's §3.2.3 coordinates,
-// with their beta n/|n| terms, did; docs/robustness.md "Prostate particle 208").
+// with their beta n/|n| terms, would; docs/robustness.md "The needle's virtual particles").
 // Fallback: coincident or collinear neighbours (one or two particles in a zone), or weights that
 // extrapolate (leave [-kAnchorWeightMargin, 1 + kAnchorWeightMargin]: X beside its particles
 // rather than among them): the anchor follows the tissue by translation only, w_a normalised

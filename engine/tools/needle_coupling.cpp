@@ -7,10 +7,9 @@
 // can be held by many nodes: the zone radius (one lattice spacing, 10 mm in fat) reaches ~5
 // nodes of each needle, and in a brachytherapy template (5 mm pitch) a particle near the
 // capsule sits in the zones of several needles. In the default anatomy with 20 needles a fat
-// particle next to the apex was held by 41 anchors whose Jacobians (an anchor point well
-// outside its triplets: affine weights and normal terms > 1) summed to K = 2.8e5 N/m on
-// 0.78 g: K h^2 / m = 1.85 at h = 71 us (the limit of symplectic Euler is 4 for a lone spring,
-// less with the tissue's own stiffness), and the apex blew up 9 ms later.
+// particle next to the apex can be held by ~40 anchors summing to K h^2 / m ~ 2 (the limit of
+// symplectic Euler is 4 for a lone spring, less with the tissue's own stiffness), enough to blow
+// the apex up without a bound.
 //
 // The bound: for anchor A with stiffness k_A, c_A,q = |dP*/dx_q| (its weight |w_q|: the anchor is
 // linear, needle_anchor.h) and C_A = sum_q c_A,q; block Gershgorin on M^-1 K gives

@@ -66,9 +66,9 @@ TEST(Cli, MissingFileAndBadOptionExit2) {
   EXPECT_EQ(run("no-such-command").code, 2);
 }
 
-// Numbers on the command line get the scenario's own bounds. `--duration 1e300` used to overflow
-// the tick count and "succeed" with 0 steps, exit 0; `--factor 1e-300` ran forever; the old
-// message printed the upper bound as 309 digits of DBL_MAX.
+// Numbers on the command line get the scenario's own bounds: unbounded, `--duration 1e300` would
+// overflow the tick count and "succeed" with 0 steps, `--factor 1e-300` would run forever, and a
+// bound printed as DBL_MAX would read as 309 digits.
 TEST(Cli, OutOfRangeNumbersExit2NamingTheOptionAndItsBounds) {
   const fs::path out = temp_dir("range");
   const std::string scen = kSource + "/config/demo_cube.yaml";
@@ -96,8 +96,7 @@ TEST(Cli, OutOfRangeNumbersExit2NamingTheOptionAndItsBounds) {
 }
 
 // An output path that cannot be written is bad input, found before any work: exit 2 naming the
-// option. Before, `bench --json /missing/x.json` ran its whole bench (~20 s) and then reported an
-// "internal error ... a bug in ProstateSim", exit 4; `stress --json` and `--csv` did the same.
+// option, not an internal error after a whole bench (~20 s) or stress run.
 TEST(Cli, OutputPathsThatCannotBeWrittenExit2NamingTheOptionBeforeAnyRun) {
   const fs::path out = temp_dir("outputs");
   const std::string missing = (out / "no_such_folder" / "x.json").string();

@@ -1,13 +1,14 @@
 // Offscreen pixel tests with known geometry: a primitive drawn at a known place has the expected
 // colour there and not elsewhere; surfaces follow the snapshot; transparency blends; the
 // displacement colouring reaches the top of the scale. Headless context errors are clear.
+#include "render/offscreen_target.h"
 #include "render/renderer.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 
-#include "engine/realtime/snapshot.h"
+#include "engine/contract/snapshot.h"
 #include "render/headless_context.h"
 #include "render/render_error.h"
 

@@ -18,6 +18,7 @@
 #include "engine/realtime/script.h"
 #include "engine/sim/scene.h"
 #include "render/headless_context.h"
+#include "render/offscreen_target.h"
 #include "render/renderer.h"
 
 namespace ps::render {

@@ -113,7 +113,7 @@ TEST(PlotChart, TheBestLegendCornerHidesNoData) {
   c.legend = LegendPos::BottomLeft;
   const Canvas bottom_left = render(c, 640, 480);
   EXPECT_TRUE(best.pixels() == bottom_left.pixels()) << "the legend went elsewhere than the one clear corner";
-  c.legend = LegendPos::TopRight;  // where it used to go: over two of the points
+  c.legend = LegendPos::TopRight;  // the fixed corner: over two of the points
   const Canvas top_right = render(c, 640, 480);
   int shown = 0;  // red pixels with the legend top right
   for (int y = 0; y < top_right.height(); ++y)

@@ -282,8 +282,8 @@ TEST(MeshImport, NonFiniteCoordinatesNameTheVertex) {
   expect_input_error([&] { import_mesh(a); }, a, "vertex 1 (face 0) has a non-finite coordinate");
   const std::string b = dir.file("inf.obj", "v 0 0 0\nv 1e999 0 0\nv 0 1 0\nf 1 2 3\n");
   expect_input_error([&] { import_mesh(b); }, b, "vertex 2 has a non-finite coordinate (inf, 0, 0)");
-  // the OBJ's own vertex number and line (assimp numbers one vertex per face corner: before, a
-  // NaN in the file's 4th vertex was reported as "vertex 5 (face 1)"); beyond float range is inf
+  // the OBJ's own vertex number and line (assimp numbers one vertex per face corner, so its own
+  // number for the file's 4th vertex would read "vertex 5 (face 1)"); beyond float range is inf
   const std::string c = dir.file("nan.obj", "# tetrahedron\nv 0 0 0\nv 10 0 0\nv 0 10 0\nv nan 0 10\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n");
   try {
     import_mesh(c);

@@ -1,8 +1,7 @@
 // A burst of events in one tick (engine/realtime/tick_runner.h fill_snapshot's max_events,
 // physics_loop.h kEventCapacity): more events than a snapshot buffer holds are delivered over the
-// next snapshots, in order, none lost and none twice, and publishing them allocates nothing. Before,
-// fill_snapshot appended every pending event, so a tick with more than the reserved room grew the
-// snapshot's vector on the physics thread.
+// next snapshots, in order, none lost and none twice, and publishing them allocates nothing
+// (appending every pending event would grow the snapshot's vector on the physics thread).
 #include <gtest/gtest.h>
 
 #include <chrono>

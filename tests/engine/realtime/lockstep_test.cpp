@@ -66,28 +66,6 @@ TEST(Lockstep, SameScriptSameHashOnThreeRunsAndEveryInstrumentActs) {
 // Box2D-style: the expected hash of this run on this program. A commit that changes it changes
 // simulation results somewhere (physics, tools, scene compile, command handling) and must say so.
 TEST(Lockstep, FixedExpectedHashOfAShortScriptedRun) {
-  // 0xf9381b0b9d77321c until the probe reaction used the inertial mass 1/inv_mass (h-speed,
-  // solver.mass_scaling): same physics, different last bits of the reaction force.
-  // 0x7796e13f4c9dcf84 until the saved state carried the multi-rate slow force (State::tet_slow_f,
-  // tet_slow_vol and their flag, empty here: 0x81193b3de01a9bae), the needle's puncture contact was
-  // critically damped and the needle tool's state gained the wall-lumen fields (docs/needle.md).
-  // 0x358239fa21c1fa48 until the probe's and the filling's reports became fixed rings of records
-  // (engine/tools/tool_reports.h) and the filling's schedule a fixed number of slots: the tools'
-  // saved bytes changed, the physics did not (hash_state of this run with clamped fill and probe
-  // commands and 40 more fill commands added: f291ac70f9ae0efc at 300 ticks before and after).
-  // 0x0ddceb6e39584637 (state 0x6ff818835539f17b) until a needle node's virtual particle whose
-  // discrete coordinates extrapolate (weights outside [-0.5, 1.5]) took the translation form
-  // (engine/tools/needle_anchor.cpp; docs/robustness.md, "The rectal wall at the hole").
-  // 0xb8bcc991e935317f (state 0x004f65ea7319449e) until the anchors' weights became affine and
-  // linear in place of the paper's discrete coordinates (their beta n/|n| terms and the saved
-  // triplets gone: docs/robustness.md, "Prostate particle 208").
-  // 0xd38d97e44783e1c6 until the probe's broad phase defaulted to the box over every candidate
-  // (ProbeBroadPhase::Box, was FCL): the same particles are projected the same way (the state hash
-  // below is unchanged), but the probe's saved list of the substep's candidates differs.
-  // 0xcdea8ff147e1e5f8 (state 0x4d9580391a753066) until the probe stopped alternating its contact
-  // with the volume projection on substeps where no vertex of a volume-constrained surface is
-  // within its 1 mm query margin (engine/tools/probe.h, "Penetration"): the engine's volume stage
-  // then projects once instead of twice, which changes the last bits of the positions.
   constexpr uint64_t kExpectedHash = 0xcb8cf909fe67fadeull;
   // State alone (positions, velocities, every State field; no tool state): changes only when the
   // physics does, so a commit that changes kExpectedHash but not this one changed tool bookkeeping

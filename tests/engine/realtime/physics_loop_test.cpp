@@ -132,10 +132,10 @@ TEST(PhysicsLoop, TooHeavyForTheFactorRunsInReportedSlowMotionWithoutCatchingUp)
 
 // A reader that takes only every third snapshot still meets every event once and in order: each
 // snapshot carries the events the reader may not have taken, and SnapshotEvent::seq lets it skip
-// those it has. (Carrying only the events of the buffer handed back, before, delivered a tick's
-// event after the next one's whenever the reader skipped two snapshots in a row, which the
-// trainee window, at 10-60 frames against 500-1000 ticks a second, always does: the gun's
-// rectum and prostate punctures, 6 ms apart, were listed the wrong way round.) Twelve ticks with
+// those it has. (Carrying only the events of the buffer handed back would deliver a tick's event
+// after the next one's whenever the reader skipped two snapshots in a row, which the trainee
+// window, at 10-60 frames against 500-1000 ticks a second, always does: the gun's rectum and
+// prostate punctures, 6 ms apart, would be listed the wrong way round.) Twelve ticks with
 // one refused command each (a refusal is an event), stepped one at a time.
 TEST(PhysicsLoop, AReaderThatSkipsSnapshotsMeetsEveryEventOnceInOrder) {
   Scene sc = test::make_live_scene();

@@ -95,7 +95,7 @@ TEST(ScenarioRanges, AbsurdValuesNameFileLineAndKey) {
 
 TEST(ScenarioRanges, StiffButAllowedYoungIsRefusedByTheSubstepLimitNotOverflowed) {
   // 1e8 kPa (harder than bone) passes the range check but needs ~1e5+ substeps per 1 ms tick:
-  // compile must refuse it (it used to overflow the substep count to -2147483648).
+  // compile must refuse it, not overflow the substep count to -2147483648.
   const InputError e = input_error_of(replace(replace(test::cube_yaml(40, 10), "young_kpa: 10", "young_kpa: 1e9"), "dt_ms: 1", "dt_ms: 100"));
   EXPECT_EQ(e.field(), "materials.soft.young_kpa") << e.what();
   EXPECT_NE(std::string(e.what()).find("substeps"), std::string::npos) << e.what();

@@ -3,9 +3,9 @@
 // central differences of the tet force, bounds the proxy, lambda_max(H_pp) <= d_p <= trace(H_pp).
 // (Shear: the block is V0 mu |g|^2 times the identity, the J term adds nothing to it; nodal
 // pressure: a sum of rank-one blocks kappa_n / V0_n a a^T, a = dV_n/dx_p, whose trace the proxy
-// takes.) Until Dec 2026 the proxy counted each element's volume as its own, V0 kappa |g|^2, about
-// 8x the nodal term in the default anatomy's fat: above the trace, so the partition and mass
-// scaling put inertia on the fat that it did not need (docs/performance.md, round 27).
+// takes.) The element bound, each element's volume counted as its own (V0 kappa |g|^2), reads
+// about 8x the nodal term in the default anatomy's fat: above the trace, so sizing inertia on it
+// would put inertia on the fat that it does not need (docs/model.md "Multi-rate elements").
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>

@@ -91,6 +91,23 @@ TEST(Simulation, PipelineSkipsStagesTheSceneDoesNotNeed) {
   EXPECT_NE(std::find(vol.pipeline().begin(), vol.pipeline().end(), Stage::Volume), vol.pipeline().end());
 }
 
+TEST(Simulation, PipelineRunsInStageOrder) {
+  // the Stage enum lists the stages in the order a substep runs them; every pipeline keeps it
+  const std::string scenes[] = {
+      test::cube_yaml(40, 10, true, true, 5),
+      "name: t\nmaterials:\n  gel: {young_kpa: 10, incompressible: true, model: strain}\ncomponents:\n"
+      "  - {name: b, material: gel, spacing_mm: 10, box: {min_mm: [0,0,0], max_mm: [40,40,40]}}\n"
+      "constraints:\n  - fix: {component: b, region: {box: {min_mm: [-1,-1,-1], max_mm: [41,41,0.5]}}}\n"};
+  for (const std::string& y : scenes) {
+    Simulation sim(test::compile_text(y));
+    const auto& pl = sim.pipeline();
+    ASSERT_GE(pl.size(), 4u);
+    for (size_t i = 1; i < pl.size(); ++i)
+      EXPECT_LT(static_cast<int>(pl[i - 1]), static_cast<int>(pl[i])) << stage_name(pl[i - 1]) << " before " << stage_name(pl[i]);
+    EXPECT_EQ(pl.back(), Stage::Check);  // no tools: the check ends the substep
+  }
+}
+
 TEST(Simulation, BlowUpStopsWithParticleAndTime) {
   // raw stiffness far beyond the stable limit with substeps pinned: must fault, not NaN silently
   ScenarioSpec spec = parse_scenario_text(test::cube_yaml(40, 10, false, true, 0), "blow.yaml");

@@ -187,7 +187,7 @@ TEST(StrainMemoryForce, InvertedCollapsedAndCrushedBodies) {
   EXPECT_LT(strain_memory_energy(*m, s), 1e-6 * e0);
 }
 
-// A paper-model scene compiles exactly as before: no clusters, no strain stage.
+// A paper-model scene compiles without the strain model: no clusters, no strain stage.
 TEST(StrainMemoryMapping, PaperModelHasNoClusters) {
   auto m = test::compile_text(test::cube_yaml());
   EXPECT_EQ(m->strain.count(), 0);

@@ -46,11 +46,11 @@ TEST(AffineAnchor, FullCoordinatesReproduceThePointAndFollowRigidMotion) {
 }
 
 TEST(AffineAnchor, IsAffineAndLinearSoAHeldForceAddsNoStiffnessOfItsOwn) {
-  // The paper's coordinates added beta n/|n| terms: P* was nonlinear in x and a stuck node's
-  // friction force F added F . d2P*/dx2 to the tissue, a stiffness the coupling bound could not
-  // scale away (a prostate particle beside the biopsy track ran away at 7.8 m/s,
-  // docs/robustness.md "Prostate particle 208"). The weights now reproduce affine motion and do
-  // not depend on the positions after the build.
+  // The paper's coordinates add beta n/|n| terms: P* is then nonlinear in x and a stuck node's
+  // friction force F adds F . d2P*/dx2 to the tissue, a stiffness the coupling bound cannot scale
+  // away (a prostate particle beside the biopsy track runs away, docs/robustness.md "The needle's
+  // virtual particles"). The weights reproduce affine motion and do not depend on the positions
+  // after the build.
   const std::vector<Vec3> x = cloud();
   const Vec3 X = kInside;
   const AffineAnchor a = anchor_in_cloud(x);

@@ -2,8 +2,8 @@
 // needle mechanics say the force at rupture and the deflection before it fall as the insertion
 // speed rises (Mahvash & Dupont, IEEE TBME 57:934, 2010). A transrectal-like scene: the needle
 // starts in the lumen of a closed wall (fill: surface, as the rectum of config/biopsy.yaml),
-// soft fat beyond it, 6 substeps of a 1 ms tick (the default biopsy scene runs 3 of a 2 ms tick;
-// docs/performance.md round 26 has the same sweep on it); driven at constant speed from 3 mm/s to
+// soft fat beyond it, 6 substeps of a 1 ms tick (the default biopsy scene runs 3 of a 2 ms tick);
+// driven at constant speed from 3 mm/s to
 // the biopsy gun's 1.5 m/s.
 #include <gtest/gtest.h>
 

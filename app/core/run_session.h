@@ -57,7 +57,7 @@ struct ReplayFrames {
 void register_replay_frames(ReplayFrames f);
 const ReplayFrames& replay_frames();
 
-// Recovery helpers shared by run, replay and the window (app/cmd_run.cpp).
+// Recovery helpers shared by run, replay and the window (run_session.cpp).
 // Test hook --inject-fault: "nan@TICK" (a NaN put into particle 0 before that tick: a simulation
 // fault) or "throw@TICK" (an exception in the loop: an internal error). InputError otherwise.
 struct FaultInjection {

@@ -1,6 +1,0 @@
-// Moved to engine/contract/command.h: the step's Tool interface (engine/step/simulation.h) uses it,
-// and step/ sits below realtime/ (docs/architecture.md, the engine's layering). This forwarding
-// header keeps code outside engine/ that names the old path building; engine/ code includes
-// the new path.
-#pragma once
-#include "engine/contract/command.h"
