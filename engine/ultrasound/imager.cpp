@@ -1,6 +1,7 @@
 #include "engine/ultrasound/imager.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -112,16 +113,18 @@ void convolve_row(const float* in, float* out, int n, const float* k, int r, flo
 
 // Scan conversion and log compression of one run of pixels (compress()): the I/Q signal of the
 // grid (bilinear between beams and samples; interpolating the envelope instead filled the speckle's
-// nulls: envelope SNR 2.2 instead of 1.91), its intensity averaged over S points of the pixel
-// (S = 4 where the pixel is coarser than the grid: the display's anti-aliasing, else a sub-pixel
-// tissue motion changes the pixels' values), envelope x TGC, then gray = a log2(env) + b0 on
-// [0, 255]; outside the view 0. Built like convolve_separable().
+// nulls: envelope SNR 2.2 instead of 1.91) at S points of the pixel, point 0 its centre. The
+// envelope is the centre's |I + iQ| x TGC; the gray level is the log-compressed value averaged
+// over the S points with weights wq (S > 1 where the pixel is coarser than the grid: the scan
+// converter's anti-aliasing after log compression, else the display undersamples the speckle and
+// a sub-pixel tissue motion changes the pixels' values), gray = a log2(env) + b0 on [0, 255];
+// outside the view 0. Built like convolve_separable().
 PS_TARGET_CLONES("avx2", "default") PS_OPTIMIZE_O3
-void compress_run(const float* E, const float* Q, int NB, int S, const float* tgc, const int* lut_i, const float* lut_wb,
-                  const float* lut_wk, const uint8_t* in_view, float a, float b0, float* envelope, uint8_t* pixels, size_t n) {
-  const float inv_s = 1.0f / static_cast<float>(S);
+void compress_run(const float* E, const float* Q, int NB, int S, const float* wq, const float* tgc, const int* lut_i,
+                  const float* lut_wb, const float* lut_wk, const uint8_t* in_view, float a, float b0, float* envelope,
+                  uint8_t* pixels, size_t n) {
   for (size_t p = 0; p < n; ++p) {
-    float I = 0.0f;
+    float gray = 0.0f, env0 = 0.0f;
     for (int q = 0; q < S; ++q) {
       const size_t l = p * S + q;
       const int i = in_view[p] ? lut_i[l] : 0;
@@ -129,13 +132,13 @@ void compress_run(const float* E, const float* Q, int NB, int S, const float* tg
       const float w00 = (1 - wk) * (1 - wb), w01 = (1 - wk) * wb, w10 = wk * (1 - wb), w11 = wk * wb;
       const float er = w00 * E[i] + w01 * E[i + 1] + w10 * E[i + NB] + w11 * E[i + NB + 1];
       const float ei = w00 * Q[i] + w01 * Q[i + 1] + w10 * Q[i + NB] + w11 * Q[i + NB + 1];
-      I += er * er + ei * ei;
+      const float env = std::sqrt(er * er + ei * ei) * tgc[p];
+      if (q == 0) env0 = env;
+      const float g = env > 1e-12f ? a * fast_log2(env) + b0 : 0.0f;
+      gray += wq[q] * std::clamp(g, 0.0f, 255.0f);
     }
-    float env = std::sqrt(I * inv_s) * tgc[p];
-    env = in_view[p] ? env : 0.0f;
-    envelope[p] = env;
-    const float g = env > 1e-12f ? a * fast_log2(env) + b0 : 0.0f;
-    pixels[p] = static_cast<uint8_t>(std::clamp(g, 0.0f, 255.0f));
+    envelope[p] = in_view[p] ? env0 : 0.0f;
+    pixels[p] = in_view[p] ? static_cast<uint8_t>(std::clamp(gray, 0.0f, 255.0f)) : uint8_t{0};
   }
 }
 
@@ -255,7 +258,16 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
     }
 
   const double f_mhz = set_.frequency * 1e-6;
-  sub_ = px_ > 2.5 * dz_ ? 4 : 1;
+  // display sample points of a pixel [px], the centre first, and their weights: where the pixel is
+  // coarser than the grid's depth step (transverse, 0.26 mm pixels for 0.15 mm samples), the
+  // centre and four points 0.3 px out on the diagonals, equally weighted
+  std::vector<std::array<double, 2>> sub_at{{0.0, 0.0}};
+  if (px_ > dz_) {
+    constexpr double d = 0.3;
+    sub_at = {{0.0, 0.0}, {-d, -d}, {d, -d}, {-d, d}, {d, d}};
+  }
+  sub_w_.assign(sub_at.size(), 1.0f / static_cast<float>(sub_at.size()));
+  sub_ = static_cast<int>(sub_at.size());
   lut_i_.assign(np * sub_, 0);
   lut_wb_.assign(np * sub_, 0.0f);
   lut_wk_.assign(np * sub_, 0.0f);
@@ -285,11 +297,7 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
       const size_t p = static_cast<size_t>(j) * W_ + i;
       img_.in_view[p] = 1;
       depth_[p] = static_cast<float>(depth);
-      if (sub_ == 1) {
-        grid_of(s, t, p);
-      } else {
-        for (int q = 0; q < 4; ++q) grid_of(s + ((q & 1) ? 0.25 : -0.25) * px_, t + ((q & 2) ? 0.25 : -0.25) * px_, p * 4 + q);
-      }
+      for (int q = 0; q < sub_; ++q) grid_of(s + sub_at[q][0] * px_, t + sub_at[q][1] * px_, p * sub_ + q);
       // round-trip TGC in dB: 2 * slope * f * depth
       const double tgc_db = 2.0 * set_.tgc_db_cm_mhz * f_mhz * depth * 100.0 + set_.gain_db;
       tgc_[p] = static_cast<float>(std::pow(10.0, tgc_db / 20.0));
@@ -951,7 +959,7 @@ void PlaneImager::compress() {
   // gray = 255 * (20 log10(env) / DR + floor); 20 log10(x) = 6.0206 log2(x)
   const float a = 255.0f * 6.0205999f / dr, b0 = 255.0f * kDisplayFloor;
   const size_t np = static_cast<size_t>(W_) * H_;
-  compress_run(env_.data(), env_im_.data(), NB_, sub_, tgc_.data(), lut_i_.data(), lut_wb_.data(), lut_wk_.data(), img_.in_view.data(), a, b0,
+  compress_run(env_.data(), env_im_.data(), NB_, sub_, sub_w_.data(), tgc_.data(), lut_i_.data(), lut_wb_.data(), lut_wk_.data(), img_.in_view.data(), a, b0,
                img_.envelope.data(), img_.pixels.data(), np);
 }
 

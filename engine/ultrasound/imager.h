@@ -129,7 +129,8 @@ class PlaneImager {
   // per pixel, fixed by the settings
   std::vector<float> depth_;          // from the array surface [m], <0 outside the view
   std::vector<float> tgc_;            // TGC x gain
-  int sub_ = 1;                       // display samples per pixel (4 where the pixel is coarser than the grid)
+  int sub_ = 1;                       // display samples per pixel, the centre first
+  std::vector<float> sub_w_;          // [sub_] their weights in the pixel's gray level
   std::vector<int> lut_i_;            // [pixels * sub_] grid sample (k * NB + b) of each display sample
   std::vector<float> lut_wb_, lut_wk_;
   // acquisition grid: NS depth samples (rows) x NB beams, index k * NB + b
