@@ -3,13 +3,16 @@
 # and the folders in its DEPS (and, through them, what those depend on); each DEPS entry must be
 # listed before it. A file belongs to the longest folder of this list that holds it (app/gui/x.cpp
 # to app/gui, app/cmd_run.cpp to app). tests/layering/check_frontend_layers.cmake (CTest
-# frontend_layering) checks every #include "engine/...", "render/...", "haptics/..." and
-# "app/..." in these folders against it; docs/architecture.md draws it.
+# frontend_layering) checks every #include "engine/...", "render/...", "haptics/...", "igtl/...",
+# "python/..." and "app/..." in these folders against it; docs/architecture.md draws it.
 set(PROSTATESIM_FRONTEND_LAYERS
   engine      # physics and scenarios (its own layers: engine/layers.cmake); includes nothing above
   render      # OpenGL 3.3 renderer, headless context, cameras; no GL provider linked
   haptics     # input devices and the haptic loop
+  igtl        # OpenIGTLink server of run --igtl-port (poses, TRUS images out; tracked instruments in)
+  python      # the prostatesim Python module (pybind11)
   app/plot    # 2D charts into an RGB buffer
+  app/labelmap  # patient cases from a segmentation's label map (Teem, nifti2)
   app/core    # what the commands and the frontends share: the run / replay seams
   app/window  # the GLFW + Dear ImGui window the trainee window and the editor share
   app/frames  # headless replay frames (PNG writer thread, contact sheet)
@@ -20,10 +23,13 @@ set(PROSTATESIM_FRONTEND_LAYERS
 set(PROSTATESIM_FRONTEND_DEPS_engine)
 set(PROSTATESIM_FRONTEND_DEPS_render engine)
 set(PROSTATESIM_FRONTEND_DEPS_haptics engine)
+set(PROSTATESIM_FRONTEND_DEPS_igtl haptics engine)
+set(PROSTATESIM_FRONTEND_DEPS_python engine)
 set(PROSTATESIM_FRONTEND_DEPS_app/plot engine)
+set(PROSTATESIM_FRONTEND_DEPS_app/labelmap engine)
 set(PROSTATESIM_FRONTEND_DEPS_app/core haptics engine)
 set(PROSTATESIM_FRONTEND_DEPS_app/window render)
 set(PROSTATESIM_FRONTEND_DEPS_app/frames app/core app/plot render)
 set(PROSTATESIM_FRONTEND_DEPS_app/gui app/core app/window app/frames render haptics)
 set(PROSTATESIM_FRONTEND_DEPS_app/editor app/window render)
-set(PROSTATESIM_FRONTEND_DEPS_app app/core app/plot app/window app/frames app/gui app/editor render haptics)
+set(PROSTATESIM_FRONTEND_DEPS_app app/core app/labelmap app/plot app/window app/frames app/gui app/editor render haptics igtl)

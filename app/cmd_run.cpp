@@ -37,6 +37,9 @@
 #include "engine/util/error.h"
 #include "haptics/probe_source.h"
 #include "haptics/spacemouse.h"
+#if PROSTATESIM_IGTL
+#include "igtl/server.h"
+#endif
 
 namespace ps::app {
 
@@ -46,6 +49,7 @@ struct RunArgs {
   std::string report, trainee, session;
   bool headless = false, hash_only = false, unpaced = false, no_watchdog = false;
   double duration = -1.0, factor = 1.0;
+  int igtl_port = -1;              // --igtl-port: -1 off
 };
 
 bool have_display() {
@@ -138,6 +142,30 @@ int run_live(const RunArgs& a) {
     loop.applier().set_observer(rec.get());
     loop.set_hash_observer(rec.get(), rec->hash_every());
   }
+#if PROSTATESIM_IGTL
+  // --igtl-port: poses and TRUS images out, tracked instruments in (igtl/server.h). Without a
+  // script, a tracked probe drives the probe unless --probe-device does, and a tracked needle
+  // the active needle unless another device does.
+  std::unique_ptr<igtl::Server> igtl_server;
+  std::unique_ptr<haptics::ProbeSource> igtl_probe;
+  std::unique_ptr<haptics::DeviceSource> igtl_needle;
+  if (a.igtl_port >= 0) {
+    igtl_server = std::make_unique<igtl::Server>(scene, loop, igtl::ServerOptions{a.igtl_port});
+    if (!player && !probe_device && scene.probe_tool >= 0) {
+      igtl_probe = std::make_unique<haptics::ProbeSource>(scene, igtl_server->probe_device());
+      loop.add_source(igtl_probe.get());
+    }
+    if (!player && !device && scene.needle_tool >= 0) {
+      igtl_needle = std::make_unique<haptics::DeviceSource>(scene, igtl_server->needle_device());
+      loop.add_source(igtl_needle.get());
+    }
+    // stdout, flushed: a client (or a test) waiting for the port reads this line first
+    std::printf("OpenIGTLink: serving on port %d (transforms %s%s, images US_Transverse, US_Sagittal; docs/igtl.md)\n",
+                igtl_server->port(), scene.probe_tool >= 0 ? "Probe" : "", scene.needle_tool >= 0 ? ", <needle>Tip" : "");
+    std::fflush(stdout);
+    igtl_server->start();
+  }
+#endif
   const Watchdog watchdog(m);
   if (!a.no_watchdog) loop.set_watchdog(&watchdog);
   loop.keep_last_good(true);
@@ -160,6 +188,15 @@ int run_live(const RunArgs& a) {
     loop.wait_for_tick(end_tick);
   }
   loop.stop();
+#if PROSTATESIM_IGTL
+  if (igtl_server) {
+    igtl_server->stop();
+    if (!a.hash_only)
+      std::printf("OpenIGTLink: %lld transforms and %lld images sent, %lld transforms received\n",
+                  static_cast<long long>(igtl_server->transforms_sent()), static_cast<long long>(igtl_server->images_sent()),
+                  static_cast<long long>(igtl_server->transforms_received()));
+  }
+#endif
   const LoopTiming t = loop.timing();
   const int64_t ticks = loop.tick();
   const uint64_t h = scene.sim->hash();
@@ -230,6 +267,12 @@ void add_run_command(CLI::App& app, Runner& run) {
   sub->add_option("--report", a->report, "session report folder: metrics.json (score), report.png, force-depth CSVs");
   sub->add_option("--trainee", a->trainee, "trainee name recorded in metrics.json");
   sub->add_option("--session", a->session, "session name in metrics.json (default: the report folder's name)");
+#if PROSTATESIM_IGTL
+  sub->add_option("--igtl-port", a->igtl_port,
+                  "serve poses and TRUS images over OpenIGTLink on this TCP port (18944 is usual; 0: any free port), "
+                  "take tracked ProbeTo*/NeedleTo* transforms in (docs/igtl.md)")
+      ->check(CLI::Range(0, 65535));
+#endif
   sub->callback([a, &run] { run = [a] { return run_live(*a); }; });
 }
 

@@ -33,5 +33,7 @@ void add_replay_command(CLI::App& app, Runner& run);        // cmd_replay.cpp (r
 void add_stress_command(CLI::App& app, Runner& run);        // cmd_stress.cpp (app/stress.h)
 void add_bench_command(CLI::App& app, Runner& run);         // cmd_bench.cpp
 void add_edit_command(CLI::App& app, Runner& run);          // cmd_edit.cpp (app/editor/)
+void add_dose_command(CLI::App& app, Runner& run);          // cmd_dose.cpp (TG-43U1 dose at points)
+void add_plan_command(CLI::App& app, Runner& run);          // cmd_dose.cpp (seed implant plan)
 
 }  // namespace ps::app

@@ -33,6 +33,8 @@ int main(int argc, char** argv) {
   ps::app::add_stress_command(app, run);
   ps::app::add_bench_command(app, run);
   ps::app::add_edit_command(app, run);
+  ps::app::add_dose_command(app, run);
+  ps::app::add_plan_command(app, run);
   // frontends (window, PNG frames) register in app/core/run_session.h before these two are added
   ps::app::register_replay_frames(ps::frames::replay_frames_frontend());
 #if PROSTATESIM_HAVE_GUI

@@ -42,6 +42,9 @@ void SessionCapture::rewind() {
 void SessionCapture::after_tick(int64_t, const Simulation& sim) {
   rec_->sample(needles_, sim.state().time);
   metrics_->observe(needles_, sim.state());
+  if (scene_.probe_tool >= 0)
+    metrics_->observe_probe(static_cast<const ProbeTool&>(*sim.tools().at(scene_.probe_tool)).reaction_force().norm(),
+                            scene_.model->dt);
   // one picture per tick at most: the first puncture or core of this tick; a puncture of the
   // gland or a core replaces an earlier puncture of another organ (the route) once the slots are full
   const NeedleEvent* ev = nullptr;

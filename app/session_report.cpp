@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/plot/chart.h"
+#include "engine/metrics/sextant_map.h"
 
 namespace ps::app {
 
@@ -115,7 +116,94 @@ plot::Chart scene_view(const Model& m, const State& s, const NeedleTool& tool, c
   return c;
 }
 
+// Cumulative DVH of the prostate, urethra and rectum, achieved (solid) and planned (dashed).
+plot::Chart dvh_chart(const DosimetryReport& d) {
+  plot::Chart c;
+  c.title = f("Dose-volume histogram (TG-43U1, %.0f Gy prescription)", d.prescription_gy);
+  c.x.label = "dose [% of prescription]";
+  c.y.label = "volume [%]";
+  c.x.min = 0.0;
+  c.x.max = 250.0;
+  c.y.min = 0.0;
+  c.y.max = 100.0;
+  c.legend = plot::LegendPos::TopRight;
+  const plot::Rgb colour[3] = {{200, 40, 40}, {230, 160, 0}, {60, 90, 200}};
+  const char* name[3] = {"prostate", "urethra", "rectum"};
+  for (int planned = 1; planned >= 0; --planned) {
+    const dosimetry::DvhCurve& v = planned ? d.dvh_planned : d.dvh_achieved;
+    const std::vector<double>* ys[3] = {&v.prostate, &v.urethra, &v.rectum};
+    for (int k = 0; k < 3; ++k) {
+      plot::Series s;
+      s.label = std::string(name[k]) + (planned ? " plan" : "");
+      s.color = colour[k];
+      s.dashed = planned;
+      for (size_t i = 0; i < v.dose_gy.size(); ++i) {
+        s.x.push_back(100.0 * v.dose_gy[i] / d.prescription_gy);
+        s.y.push_back(100.0 * (*ys[k])[i]);
+      }
+      c.series.push_back(s);
+    }
+  }
+  return c;
+}
+
+// The dose-volume indices, planned beside achieved.
+plot::Canvas dosimetry_table(const DosimetryReport& d) {
+  plot::Canvas t(kW, kH);
+  const plot::Rgb dim{90, 90, 90};
+  int y = 20;
+  auto line = [&](const std::string& s, int scale = 2, plot::Rgb c = {20, 20, 20}) {
+    t.text(24, y, s, c, scale);
+    y += plot::Canvas::text_height(scale) + 8;
+  };
+  line("Implant dosimetry", 3);
+  line(d.isotope + f(" seeds of %.3f U, prescription %.0f Gy", d.strength_u, d.prescription_gy), 2, dim);
+  line(f("seeds deposited %.0f of %.0f planned", d.seeds_deposited, d.seeds_planned), 2, dim);
+  line("                      planned   achieved", 2, dim);
+  const auto& p = d.planned;
+  const auto& a = d.achieved;
+  line(f("prostate D90  [Gy]   %7.1f   %7.1f", p.prostate_d90_gy, a.prostate_d90_gy));
+  line(f("prostate V100 [%%]    %7.1f   %7.1f", 100 * p.prostate_v100, 100 * a.prostate_v100));
+  line(f("prostate V150 [%%]    %7.1f   %7.1f", 100 * p.prostate_v150, 100 * a.prostate_v150));
+  line(f("prostate V200 [%%]    %7.1f   %7.1f", 100 * p.prostate_v200, 100 * a.prostate_v200));
+  line(f("urethra D10   [Gy]   %7.1f   %7.1f", p.urethra_d10_gy, a.urethra_d10_gy));
+  line(f("urethra D30   [Gy]   %7.1f   %7.1f", p.urethra_d30_gy, a.urethra_d30_gy));
+  line(f("rectum D2cc   [Gy]   %7.1f   %7.1f", p.rectum_d2cc_gy, a.rectum_d2cc_gy));
+  line(f("rectum V100   [cc]   %7.2f   %7.2f", p.rectum_v100_cc, a.rectum_v100_cc));
+  line(f("prostate %.1f cc on a 1 mm grid (gland + 10 mm)", a.prostate_cc), 1, dim);
+  return t;
+}
+
 }  // namespace
+
+// The 12-core map (engine/metrics/sextant_map.h) at (x0, y0): planned sites outlined, cored
+// sites green (the number of cores), a core that held lesion red.
+void draw_sextant_map(plot::Canvas& t, const SextantMap& map, int lesions_targeted, int lesions_missed, int x0, int y0) {
+  constexpr int kCw = 52, kCh = 30;
+  const plot::Rgb ink{20, 20, 20}, dim{110, 110, 110};
+  t.text(x0, y0, "12-core map", ink, 2);
+  y0 += 22;
+  const char* cols[4] = {"R lat", "R med", "L med", "L lat"};
+  const char* rows[3] = {"base", "mid", "apex"};
+  for (int c = 0; c < 4; ++c) t.text(x0 + 40 + c * kCw + 6, y0, cols[c], dim, 1);
+  y0 += 12;
+  for (int r = 0; r < 3; ++r) {
+    t.text(x0, y0 + r * kCh + 11, rows[r], dim, 1);
+    for (int c = 0; c < 4; ++c) {
+      const SextantCell& cell = map.cells[4 * r + c];
+      const int cx = x0 + 40 + c * kCw, cy = y0 + r * kCh;
+      if (cell.cores > 0) t.fill_rect(cx + 2, cy + 2, cx + kCw - 2, cy + kCh - 2, cell.lesion ? plot::Rgb{215, 60, 50} : plot::Rgb{80, 170, 90});
+      else if (cell.planned) t.fill_rect(cx + 2, cy + 2, cx + kCw - 2, cy + kCh - 2, {232, 232, 232});
+      t.rect_outline(cx + 1, cy + 1, cx + kCw - 1, cy + kCh - 1, cell.planned ? ink : plot::Rgb{200, 200, 200});
+      if (cell.cores > 0) t.text(cx + kCw / 2 - 4, cy + 9, std::to_string(cell.cores), {255, 255, 255}, 2);
+    }
+  }
+  int y = y0 + 3 * kCh + 6;
+  t.text(x0, y, "green: cored  red: lesion  grey: planned, missed", dim, 1);
+  y += 12;
+  if (map.off_map > 0) { t.text(x0, y, f("%.0f core(s) off the map (outside the gland)", map.off_map), {160, 40, 40}, 1); y += 12; }
+  if (lesions_targeted > 0) t.text(x0, y, f("lesions: %.0f targeted, %.0f missed", lesions_targeted, lesions_missed), lesions_missed ? plot::Rgb{160, 40, 40} : ink, 1);
+}
 
 RgbImage render_session_report(const Model& m, const State& s, const NeedleTool& tool, const ForceDepthRecorder& rec,
                                const SessionReport& r, const Score& score, const ReportViews* views) {
@@ -152,7 +240,7 @@ RgbImage render_session_report(const Model& m, const State& s, const NeedleTool&
   RgbImage img;
   const int col = views ? 2 : 1;  // column of the projections
   img.width = (col + 1) * kW;
-  img.height = 2 * kH;
+  img.height = (r.dosimetry.computed ? 3 : 2) * kH;  // a third row: the implant's DVH and indices
   img.pixels.assign(static_cast<size_t>(img.width) * img.height * 3, 255);
   blit(img, plot::render(fd, kW, kH), 0, 0);
   blit(img, plot::render(scene_view(m, s, tool, r, 1, 2, "Sagittal view at the end (y-z)", "y, anterior [mm]", "z, superior [mm]"), kW, kH),
@@ -248,7 +336,16 @@ RgbImage render_session_report(const Model& m, const State& s, const NeedleTool&
   if (!std::isnan(r.seed_error_mean))
     line(f("seeds %.0f: error mean %.2f mm, max %.2f mm; outside the gland %.0f", r.seeds.size(), 1e3 * r.seed_error_mean,
            1e3 * r.seed_error_max, r.seeds_outside_gland));
+  if (!r.planned_sites.empty() || !r.cores.empty())
+    draw_sextant_map(t, sextant_map(r), r.lesions_targeted, r.lesions_missed, kW - 270, 16);
+  if (!std::isnan(r.probe_peak_force))
+    line(f("probe contact force: peak %.1f N, %.1f s above %.0f N (provisional threshold)", r.probe_peak_force, r.probe_time_above,
+           kProbeForceThreshold));
   blit(img, t, 0, kH);
+  if (r.dosimetry.computed) {
+    blit(img, plot::render(dvh_chart(r.dosimetry), kW, kH), 0, 2 * kH);
+    blit(img, dosimetry_table(r.dosimetry), kW, 2 * kH);
+  }
   return img;
 }
 

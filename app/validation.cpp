@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "app/validate_dosimetry.h"
 #include "app/validate_indentation.h"
 #include "app/validate_needle.h"
 #include "app/validate_probe.h"
@@ -20,6 +21,7 @@ const std::vector<ValidationCase>& validation_cases() {
     for (auto&& c : needle_validation_cases()) all.push_back(std::move(c));
     for (auto&& c : probe_validation_cases()) all.push_back(std::move(c));
     for (auto&& c : indentation_validation_cases()) all.push_back(std::move(c));
+    for (auto&& c : dosimetry_validation_cases()) all.push_back(std::move(c));
     return all;
   }();
   return cases;

@@ -5,6 +5,7 @@
 # against it. docs/architecture.md draws it and says why each folder sits where it does.
 set(PROSTATESIM_ENGINE_LAYERS
   util        # vectors, errors, atomic files, spatial grid, state I/O
+  dosimetry   # TG-43U1 seed dose, dose grids, organ masks, DVH and indices, the implant plan
   draw        # DrawSink/DrawList: how a tool describes its geometry (header only)
   contract    # Command in, Snapshot/ToolReadout/SnapshotEvent out: plain data across threads
   mesh        # triangle meshes: import, check, simplify, query, OBJ
@@ -22,6 +23,7 @@ set(PROSTATESIM_ENGINE_LAYERS
   io          # output files, PNG
 )
 set(PROSTATESIM_ENGINE_DEPS_util)
+set(PROSTATESIM_ENGINE_DEPS_dosimetry util)
 set(PROSTATESIM_ENGINE_DEPS_draw util)
 set(PROSTATESIM_ENGINE_DEPS_contract draw util)
 set(PROSTATESIM_ENGINE_DEPS_mesh util)
@@ -31,7 +33,7 @@ set(PROSTATESIM_ENGINE_DEPS_spec util)
 set(PROSTATESIM_ENGINE_DEPS_anatomy mesh)
 set(PROSTATESIM_ENGINE_DEPS_step contract draw model state)
 set(PROSTATESIM_ENGINE_DEPS_tools anatomy mesh spec step)
-set(PROSTATESIM_ENGINE_DEPS_metrics spec tools)
+set(PROSTATESIM_ENGINE_DEPS_metrics dosimetry spec tools)
 set(PROSTATESIM_ENGINE_DEPS_scenario anatomy mesh metrics spec step tools)
 set(PROSTATESIM_ENGINE_DEPS_sim scenario)
 set(PROSTATESIM_ENGINE_DEPS_realtime sim)

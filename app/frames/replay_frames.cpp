@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "engine/io/instruments_csv.h"
 #include "engine/util/error.h"
 #include "engine/ultrasound/from_simulation.h"
 #include "render/render_scene.h"
@@ -35,11 +36,13 @@ ReplayFramesResult replay_frames(const Scene& scene, LockstepRunner& run, int64_
   }
   FrameRecorder rec(*scene.model, urethra, opt, us.get());  // GL context first, then the folder
   ReplayFramesResult r;
+  InstrumentsCsv instruments;  // instruments.csv: the needles' and the probe's poses at every frame
   int done = 0;
   {
     const Snapshot& s = run.snapshot();
     rec.observe(s);
     rec.add_frame(s);
+    instruments.add(scene);
     rec.progress(++done, frames, s.time);
   }
   while (run.tick() < end_tick) {
@@ -51,6 +54,7 @@ ReplayFramesResult replay_frames(const Scene& scene, LockstepRunner& run, int64_
     rec.observe(s);
     if ((run.tick() - start) % every == 0 || run.tick() == end_tick) {
       rec.add_frame(s);
+      instruments.add(scene);
       rec.progress(++done, frames, s.time);
     }
   }
@@ -59,6 +63,7 @@ ReplayFramesResult replay_frames(const Scene& scene, LockstepRunner& run, int64_
     r.fault = s.fault.data();
     rec.observe(s);
     rec.add_frame(s);  // the state at the fault, for the record
+    instruments.add(scene);
     rec.progress(frames, frames, s.time);
   }
   r.ticks = run.tick();
@@ -70,6 +75,7 @@ ReplayFramesResult replay_frames(const Scene& scene, LockstepRunner& run, int64_
   j["faulted"] = r.faulted;
   if (r.faulted) j["fault"] = r.fault;
   r.summary = rec.finish(j.dump());
+  if (scene.needle_tool >= 0) instruments.write(opt.out_dir + "/instruments.csv");
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

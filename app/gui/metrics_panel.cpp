@@ -7,8 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "app/gui/tip_target.h"
 #include "engine/metrics/score.h"
 #include "engine/metrics/session_metrics.h"
+#include "engine/metrics/sextant_map.h"
 #include "engine/metrics/tracked_point.h"
 #include "engine/tools/needle_events.h"
 
@@ -24,11 +26,14 @@ struct NeedleLive {
   int punctures = 0;
   uint32_t hits = 0;               // structure bits
   int entry = -1;                  // first component punctured: the route, not a hit
+  TipTargetHold tip_target;        // app/gui/tip_target.h
 };
 
 struct Live {
   const Scene* scene = nullptr;
   std::vector<NeedleLive> needles;
+  bool has_map = false;            // a needle with planned sites: the live 12-core map
+  SextantMap map;
   std::vector<Vec3> x;             // positions of the snapshot [m]
   int64_t last_tick = -1;
 };
@@ -51,7 +56,36 @@ void reset(Live& L, const Scene& sc) {
       v.has_target = true;
     }
     L.needles.push_back(v);
+    if (!n.planned_sites.empty()) {
+      L.has_map = true;
+      L.map = empty_sextant_map(n.planned_sites);
+    }
   }
+}
+
+// The 12-core map as the biopsy form draws it: planned sites outlined, cored green (count), a
+// core with lesion red (the report's map, engine/metrics/sextant_map.h, live).
+void draw_map(const SextantMap& map) {
+  ImGui::TextUnformatted("12-core map (R lat, R med | L med, L lat)");
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  const float cw = 44.0f, ch = 22.0f, left = 40.0f;
+  const char* rows[3] = {"base", "mid", "apex"};
+  for (int r = 0; r < 3; ++r) {
+    dl->AddText(ImVec2(p0.x, p0.y + r * ch + 4), IM_COL32(180, 180, 180, 255), rows[r]);
+    for (int c = 0; c < 4; ++c) {
+      const SextantCell& cell = map.cells[4 * r + c];
+      const ImVec2 a(p0.x + left + c * cw + (c >= 2 ? 6.0f : 0.0f), p0.y + r * ch), b(a.x + cw - 3, a.y + ch - 3);
+      if (cell.cores > 0) dl->AddRectFilled(a, b, cell.lesion ? IM_COL32(210, 60, 50, 255) : IM_COL32(70, 160, 80, 255));
+      dl->AddRect(a, b, cell.planned ? IM_COL32(220, 220, 220, 255) : IM_COL32(90, 90, 90, 255));
+      if (cell.cores > 0) {
+        const std::string n = std::to_string(cell.cores);
+        dl->AddText(ImVec2(a.x + cw / 2 - 6, a.y + 3), IM_COL32(255, 255, 255, 255), n.c_str());
+      }
+    }
+  }
+  ImGui::Dummy(ImVec2(left + 4 * cw + 8, 3 * ch + 2));
+  if (map.off_map > 0) ImGui::TextColored(ImVec4(1, 0.45f, 0.4f, 1), "%d core(s) outside the gland", map.off_map);
 }
 
 }  // namespace
@@ -70,8 +104,22 @@ void metrics_panel(Session& s, const Snapshot& snap) {
   for (const SnapshotEvent& e : s.new_events()) {
     if (e.tool != sc.needle_tool) continue;
     const auto kind = static_cast<NeedleEventKind>(e.kind);
-    if (kind != NeedleEventKind::Puncture && kind != NeedleEventKind::BoneHit && kind != NeedleEventKind::Contact) continue;
     const std::string t = e.text.data();
+    if (kind == NeedleEventKind::Core && L.has_map) {  // "...: core at 21.7 mm, 0.00 N [right mid medial, lesion]"
+      const size_t open = t.rfind('[');
+      if (open != std::string::npos) {
+        const std::string site = t.substr(open + 1);
+        const int k = sextant_cell(site);
+        if (k < 0) ++L.map.off_map;
+        else {
+          ++L.map.cells[k].cores;
+          L.map.cells[k].lesion |= site.find("lesion") != std::string::npos;
+        }
+      }
+    }
+    if (kind != NeedleEventKind::Puncture && kind != NeedleEventKind::BoneHit && kind != NeedleEventKind::Contact &&
+        kind != NeedleEventKind::Urethra)
+      continue;
     const size_t colon = t.find(": ");
     if (colon == std::string::npos) continue;
     for (NeedleLive& n : L.needles) {
@@ -85,6 +133,7 @@ void metrics_panel(Session& s, const Snapshot& snap) {
         else if (comp >= 0) n.hits |= structure_of(m.components[static_cast<size_t>(comp)]);
       }
       if (kind == NeedleEventKind::BoneHit) n.hits |= structure_of(m.components[static_cast<size_t>(std::max(comp, 0))]) | 8u;
+      if (kind == NeedleEventKind::Urethra) n.hits |= 1u;
     }
   }
   const size_t np = snap.x.size() / 3;
@@ -114,10 +163,15 @@ void metrics_panel(Session& s, const Snapshot& snap) {
       ImGui::TextUnformatted(n.name.c_str());
       ImGui::TableSetColumnIndex(1);
       if (n.has_target && r && r->depth > 0.0 && np == static_cast<size_t>(m.particle_count())) {
-        const double d = 1e3 * (r->tip - n.target.position(L.x)).norm();
+        const double d = n.tip_target.update(r->depth, 1e3 * (r->tip - n.target.position(L.x)).norm());
         sum += d;
         ++counted;
-        ImGui::Text("%.1f", d);
+        if (n.tip_target.held(r->depth)) ImGui::Text("%.1f deepest", d);
+        else ImGui::Text("%.1f", d);
+      } else if (n.has_target && n.tip_target.measured()) {  // drawn out of the tissue: its error stays
+        sum += n.tip_target.at_deepest_mm;
+        ++counted;
+        ImGui::Text("%.1f deepest", n.tip_target.at_deepest_mm);
       } else {
         ImGui::TextDisabled("-");
       }
@@ -134,6 +188,7 @@ void metrics_panel(Session& s, const Snapshot& snap) {
     }
     ImGui::EndTable();
   }
+  if (L.has_map) draw_map(L.map);
   if (counted > 0) {
     const double mean = sum / counted;
     ImGui::Text("mean tip-target %.1f mm", mean);

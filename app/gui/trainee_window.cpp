@@ -16,11 +16,13 @@
 #include <thread>
 #include <vector>
 
+#include "app/gui/dose_worker.h"
 #include "app/gui/metrics_panel.h"
 #include "app/gui/plot_axes.h"
 #include "app/gui/session.h"
 #include "app/gui/ultrasound_worker.h"
 #include "app/window/app_window.h"
+#include "engine/metrics/session_metrics.h"
 #include "haptics/mouse_keyboard.h"
 #include "engine/util/error.h"
 #include "render/gl_api.h"
@@ -33,6 +35,8 @@ namespace {
 
 constexpr float kLeftPanel = 330.0f, kRightPanel = 400.0f;  // panel widths [px]
 constexpr double kPi = 3.14159265358979323846;
+constexpr float kProbeDragDegPerPixel = 0.15f;  // Ctrl + drag: probe roll / tilt per pixel [deg]
+constexpr float kProbeWheelMm = 2.0f;           // Ctrl + wheel: probe insertion per notch [mm]
 
 struct Ui {
   render::View view = render::View::Orbit;
@@ -43,6 +47,7 @@ struct Ui {
   int needle = 0;                 // selected needle index
   float speed_mm_s = 5.0f;        // advance speed [mm/s]
   float insertion_mm = 0, roll_deg = 0, tilt_deg = 0, yaw_deg = 0;
+  double probe_peak_n = 0, probe_above_s = 0, probe_time = 0;  // probe contact force read-out
   char open_path[512] = {};
   char state_path[512] = {};      // saved state to load (filled by "Save last good state")
   std::string error;              // last load error (file:line:field)
@@ -107,6 +112,7 @@ struct UsPanel {
   unsigned tex[2] = {0, 0};
   bool have = false;
   float gain_db = 0.0f, depth_mm = 60.0f, freq_mhz = 7.5f;  // the knobs (sliders)
+  bool lesions = true, toggle_lesions = false;               // fused MRI contour of the lesions (M)
   ~UsPanel() {
     worker.reset();
     if (tex[0] && gl::loaded()) gl::api.DeleteTextures(2, tex);
@@ -127,6 +133,7 @@ void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width) {
         p.gain_db = static_cast<float>(c.gain_db);
         p.depth_mm = static_cast<float>(c.depth_m * 1e3);
         p.freq_mhz = static_cast<float>(c.frequency_hz * 1e-6);
+        p.lesions = c.lesions;
       } catch (const std::exception& e) {
         p.error = e.what();
       }
@@ -177,15 +184,84 @@ void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width) {
   ImGui::SameLine();
   changed |= ImGui::SliderFloat("depth [mm]", &p.depth_mm, 30.0f, 100.0f, "%.0f");
   changed |= ImGui::SliderFloat("frequency [MHz]", &p.freq_mhz, 4.0f, 12.0f, "%.1f");
+  ImGui::SameLine();
+  changed |= ImGui::Checkbox("MRI contour (M)", &p.lesions);
+  if (p.toggle_lesions) { p.lesions = !p.lesions; p.toggle_lesions = false; changed = true; }
   ImGui::PopItemWidth();
   if (changed && p.worker) {
     try {
-      p.worker->set_controls({p.gain_db, p.depth_mm * 1e-3, p.freq_mhz * 1e6});
+      p.worker->set_controls({p.gain_db, p.depth_mm * 1e-3, p.freq_mhz * 1e6, p.lesions});
     } catch (const std::exception& e) {  // a typed-in value out of range (ctrl+click): say which
       p.error = e.what();
     }
   }
   if (!p.error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.5f, 0.4f, 1.0f), "%s", p.error.c_str());
+}
+
+// The live implant dosimetry (dose_worker.h): the indices and the cumulative DVH, updated by the
+// worker thread as seeds drop and as the tissue carries them.
+struct DosePanel {
+  const Session* for_session = nullptr;
+  std::unique_ptr<DoseWorker> worker;
+  std::string error;
+  DoseFrame frame;
+};
+
+void dose_panel(DosePanel& p, Session& s, const Snapshot& snap, float width) {
+  if (p.for_session != &s) {
+    p.worker.reset();
+    p.frame = DoseFrame{};
+    p.error.clear();
+    p.for_session = &s;
+    bool seeds = false;
+    for (const NeedleSpec& n : s.scene().spec.needles.needles) seeds |= !n.seed_depths.empty();
+    if (!seeds) p.error = "no seeds planned in this scene";
+    else {
+      try {
+        p.worker = std::make_unique<DoseWorker>(s.scene());
+      } catch (const std::exception& e) {
+        p.error = e.what();
+      }
+    }
+  }
+  if (!p.error.empty()) {
+    ImGui::TextDisabled("%s", p.error.c_str());
+    return;
+  }
+  p.worker->submit(snap);
+  p.worker->take(p.frame);
+  if (!p.frame.ready) {
+    ImGui::TextDisabled("computing the first dose grid...");
+    return;
+  }
+  const auto& x = p.frame.indices;
+  const double rx = p.worker->prescription_gy();
+  ImGui::Text("%d seeds, I-125 6711, prescription %.0f Gy", p.frame.seeds, rx);
+  ImGui::Text("prostate D90 %.0f Gy (%.0f %%)  V100 %.1f %%  V150 %.1f %%  V200 %.1f %%", x.prostate_d90_gy,
+              100.0 * x.prostate_d90_gy / rx, 100 * x.prostate_v100, 100 * x.prostate_v150, 100 * x.prostate_v200);
+  ImGui::Text("urethra D10 %.0f Gy  D30 %.0f Gy   rectum D2cc %.0f Gy  V100 %.2f cc", x.urethra_d10_gy, x.urethra_d30_gy,
+              x.rectum_d2cc_gy, x.rectum_v100_cc);
+  // cumulative DVH: volume [%] against dose [% of prescription], 0..250 %
+  const float h = 150.0f, w = width - 20.0f;
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->AddRectFilled(p0, ImVec2(p0.x + w, p0.y + h), IM_COL32(250, 250, 250, 255));
+  auto X = [&](double pct) { return p0.x + static_cast<float>(pct / 250.0) * w; };
+  auto Y = [&](double frac) { return p0.y + h - static_cast<float>(frac) * h; };
+  for (int pct : {50, 100, 150, 200}) {
+    dl->AddLine(ImVec2(X(pct), p0.y), ImVec2(X(pct), p0.y + h), IM_COL32(200, 200, 200, 255));
+    dl->AddText(ImVec2(X(pct) + 2, p0.y + h - 14), IM_COL32(120, 120, 120, 255), (std::to_string(pct) + "%").c_str());
+  }
+  const auto& c = p.frame.dvh;
+  const std::vector<double>* ys[3] = {&c.prostate, &c.urethra, &c.rectum};
+  const ImU32 col[3] = {IM_COL32(200, 40, 40, 255), IM_COL32(230, 160, 0, 255), IM_COL32(60, 90, 200, 255)};
+  for (int k = 0; k < 3; ++k)
+    for (size_t i = 1; i < c.dose_gy.size(); ++i)
+      dl->AddLine(ImVec2(X(100.0 * c.dose_gy[i - 1] / rx), Y((*ys[k])[i - 1])), ImVec2(X(100.0 * c.dose_gy[i] / rx), Y((*ys[k])[i])),
+                  col[k], 2.0f);
+  ImGui::Dummy(ImVec2(w, h));
+  ImGui::TextDisabled("DVH: prostate (red), urethra (orange), rectum (blue); t = %.2f s, %.1f ms (worker thread)", p.frame.time,
+                      p.frame.ms);
 }
 
 void push_log(Ui& ui, const std::string& s) {
@@ -257,13 +333,17 @@ void help_overlay(Ui& ui) {
   ImGui::Begin("Help: mouse and keyboard", &ui.help, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse);
   const char* rows[][2] = {
       {"left drag (vertical)", "needle depth (mouse+keyboard device), else orbit"},
+      {"Ctrl + left drag", "probe: across turns it about its axis, up/down angles it about the anal pivot"},
+      {"Ctrl + wheel, PgUp / PgDn", "probe: push in / pull out"},
+      {"[ / ]", "probe: turn left / right (2 deg)"},
+      {"--probe-device spacemouse", "probe in 6 DOF from a SpaceMouse (run option)"},
       {"right drag", "orbit the 3D view"}, {"middle drag", "pan"}, {"wheel", "zoom"},
       {"1 2 3 4 5", "views: 3D, anterior, lateral, along probe, side-on to needle"},
       {"W / S (hold)", "advance / retract the active needle"}, {"Q / E", "turn the needle hub"},
       {"Tab", "next needle"}, {"Space", "fire the biopsy gun"}, {"D", "deposit a seed"},
       {"Shift (hold)", "clutch: move the hand without the needle"},
       {"P", "pause / resume"}, {"R", "restart the scenario"}, {"C", "displacement colours"},
-      {"A", "force arrows"}, {"H or F1", "this help"}, {"Esc", "close the help"}};
+      {"A", "force arrows"}, {"M", "lesions' fused MRI contour on the ultrasound"}, {"H or F1", "this help"}, {"Esc", "close the help"}};
   if (ImGui::BeginTable("bindings", 2, ImGuiTableFlags_RowBg)) {
     for (auto& r : rows) {
       ImGui::TableNextRow();
@@ -293,6 +373,7 @@ int run_window(app::RunSession& run) {
     Ui ui;
     ClickScript clicks(std::getenv("PROSTATESIM_CLICKS"));
     UsPanel us;  // destroyed at the end of this block, while the GL context is still current
+    DosePanel dose;
     ui.help = std::getenv("PROSTATESIM_HELP") != nullptr;
     const double factor = run.loop.factor();
     std::unique_ptr<Session> session = std::make_unique<Session>(run);
@@ -361,6 +442,18 @@ int run_window(app::RunSession& run) {
         if (pressed(GLFW_KEY_A)) ui.ropt.force_arrows = !ui.ropt.force_arrows;
         if (pressed(GLFW_KEY_H) || pressed(GLFW_KEY_F1)) ui.help = !ui.help;
         if (pressed(GLFW_KEY_ESCAPE)) ui.help = false;
+        if (pressed(GLFW_KEY_M)) us.toggle_lesions = true;
+        if (s.has_probe()) {
+          bool moved = false;
+          auto step = [&](int key, float& v, float by, float lo, float hi) {
+            if (ImGui::IsKeyPressed(key, true)) { v = std::clamp(v + by, lo, hi); moved = true; }
+          };
+          step(GLFW_KEY_PAGE_UP, ui.insertion_mm, 1.0f, 0.0f, 80.0f);
+          step(GLFW_KEY_PAGE_DOWN, ui.insertion_mm, -1.0f, 0.0f, 80.0f);
+          step(GLFW_KEY_LEFT_BRACKET, ui.roll_deg, -2.0f, -90.0f, 90.0f);
+          step(GLFW_KEY_RIGHT_BRACKET, ui.roll_deg, 2.0f, -90.0f, 90.0f);
+          if (moved) s.move_probe(ui.insertion_mm * 1e-3, ui.roll_deg * kPi / 180, ui.tilt_deg * kPi / 180, ui.yaw_deg * kPi / 180);
+        }
         if (haptics::MouseKeyboardDevice* m = s.mouse()) {
           using K = haptics::MouseKeyboardDevice;
           const std::pair<int, K::Key> keys[] = {{GLFW_KEY_W, K::W}, {GLFW_KEY_S, K::S}, {GLFW_KEY_Q, K::Q}, {GLFW_KEY_E, K::E},
@@ -441,6 +534,18 @@ int run_window(app::RunSession& run) {
         moved |= ImGui::SliderFloat("yaw [deg]", &ui.yaw_deg, -20.0f, 20.0f);
         if (moved)
           s.move_probe(ui.insertion_mm * 1e-3, ui.roll_deg * kPi / 180, ui.tilt_deg * kPi / 180, ui.yaw_deg * kPi / 180);
+        // its contact force on the rectal wall, as the session metrics keep it (docs/metrics.md)
+        for (const auto& t : snap.tools) {
+          if (t.kind != ToolReadout::Probe) continue;
+          if (snap.time < ui.probe_time) { ui.probe_peak_n = 0; ui.probe_above_s = 0; }  // restarted
+          if (t.force > kProbeForceThreshold && snap.time > ui.probe_time) ui.probe_above_s += snap.time - ui.probe_time;
+          ui.probe_time = snap.time;
+          ui.probe_peak_n = std::max(ui.probe_peak_n, t.force);
+          const bool high = t.force > kProbeForceThreshold;
+          ImGui::TextColored(high ? ImVec4(1, 0.45f, 0.35f, 1) : ImVec4(0.8f, 0.85f, 0.9f, 1), "contact force %.1f N (peak %.1f N)",
+                             t.force, ui.probe_peak_n);
+          ImGui::Text("%.1f s above %.0f N (provisional)", ui.probe_above_s, kProbeForceThreshold);
+        }
         ImGui::Separator();
       }
       if (s.needle_count() > 0) {
@@ -490,6 +595,7 @@ int run_window(app::RunSession& run) {
       }
       if (ImGui::CollapsingHeader("Ultrasound", ImGuiTreeNodeFlags_DefaultOpen)) us_panel(us, s, snap, kRightPanel - 20);
       if (ImGui::CollapsingHeader("Metrics", ImGuiTreeNodeFlags_DefaultOpen)) metrics_panel(s, snap);
+      if (ImGui::CollapsingHeader("Dosimetry", ImGuiTreeNodeFlags_DefaultOpen)) dose_panel(dose, s, snap, kRightPanel - 20);
       for (const ToolReadout& r : snap.tools)  // a filling (bladder_filling.yaml): its target volume as it fills
         if (r.kind == ToolReadout::Filling && ImGui::CollapsingHeader("Filling", ImGuiTreeNodeFlags_DefaultOpen))
           ImGui::Text("target volume of the filled organ %.1f ml", r.value * 1e6);
@@ -552,10 +658,27 @@ int run_window(app::RunSession& run) {
       const float vx = kLeftPanel, vw = std::max(1.0f, ds.x - kLeftPanel - kRightPanel), vh = ds.y;
       if (!io.WantCaptureMouse) {
         const ImVec2 d = io.MouseDelta;
-        if (ImGui::IsMouseDown(0) && s.mouse()) s.mouse()->drag(d.y);  // needle depth (device)
-        else if (ImGui::IsMouseDown(0) || ImGui::IsMouseDown(1)) { ui.view = render::View::Orbit; ui.orbit.rotate(-0.3 * d.x, 0.3 * d.y); }
-        if (ImGui::IsMouseDown(2)) { ui.view = render::View::Orbit; ui.orbit.pan(-d.x * ui.orbit.distance / vh, d.y * ui.orbit.distance / vh); }
-        if (io.MouseWheel != 0.0f) ui.orbit.zoom(std::pow(0.9, io.MouseWheel));
+        // Ctrl: the probe as its handle is held: drag across turns it about its axis (roll),
+        // drag up / down angles it about the anal pivot (tilt), the wheel pushes and pulls it
+        const bool hold_probe = io.KeyCtrl && s.has_probe();
+        if (hold_probe) {
+          bool moved = false;
+          if (ImGui::IsMouseDown(0) && (d.x != 0.0f || d.y != 0.0f)) {
+            ui.roll_deg = std::clamp(ui.roll_deg + kProbeDragDegPerPixel * d.x, -90.0f, 90.0f);
+            ui.tilt_deg = std::clamp(ui.tilt_deg - kProbeDragDegPerPixel * d.y, -20.0f, 20.0f);
+            moved = true;
+          }
+          if (io.MouseWheel != 0.0f) {
+            ui.insertion_mm = std::clamp(ui.insertion_mm + kProbeWheelMm * io.MouseWheel, 0.0f, 80.0f);
+            moved = true;
+          }
+          if (moved) s.move_probe(ui.insertion_mm * 1e-3, ui.roll_deg * kPi / 180, ui.tilt_deg * kPi / 180, ui.yaw_deg * kPi / 180);
+        } else {
+          if (ImGui::IsMouseDown(0) && s.mouse()) s.mouse()->drag(d.y);  // needle depth (device)
+          else if (ImGui::IsMouseDown(0) || ImGui::IsMouseDown(1)) { ui.view = render::View::Orbit; ui.orbit.rotate(-0.3 * d.x, 0.3 * d.y); }
+          if (ImGui::IsMouseDown(2)) { ui.view = render::View::Orbit; ui.orbit.pan(-d.x * ui.orbit.distance / vh, d.y * ui.orbit.distance / vh); }
+          if (io.MouseWheel != 0.0f) ui.orbit.zoom(std::pow(0.9, io.MouseWheel));
+        }
       }
       ImGui::Render();
       int fbw = 0, fbh = 0;

@@ -43,6 +43,7 @@ void UltrasoundWorker::set_controls(const UsControls& c) {
   set.gain_db = c.gain_db;
   set.depth = c.depth_m;
   set.frequency = c.frequency_hz;
+  set.lesion_contours = c.lesions;
   us::validate(set);  // throws before anything changes
   pending_settings_ = set;
   settings_changed_ = true;
@@ -50,7 +51,7 @@ void UltrasoundWorker::set_controls(const UsControls& c) {
 
 UsControls UltrasoundWorker::controls() const {
   std::lock_guard<std::mutex> lk(mu_);
-  return {pending_settings_.gain_db, pending_settings_.depth, pending_settings_.frequency};
+  return {pending_settings_.gain_db, pending_settings_.depth, pending_settings_.frequency, pending_settings_.lesion_contours};
 }
 
 bool UltrasoundWorker::take(UsFrame& out) {

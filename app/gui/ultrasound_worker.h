@@ -28,6 +28,7 @@ struct UsControls {
   double gain_db = 0.0;          // overall gain [dB]
   double depth_m = 0.060;        // imaging depth [m]
   double frequency_hz = 7.5e6;   // centre frequency [Hz]
+  bool lesions = true;           // lesions as a fused MRI contour on both planes
 };
 
 struct UsFrame {

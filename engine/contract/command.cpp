@@ -17,6 +17,7 @@ const char* command_kind_name(CommandKind k) {
     case CommandKind::DepositSeed: return "deposit_seed";
     case CommandKind::SelectNeedle: return "select_needle";
     case CommandKind::SelectHole: return "select_hole";
+    case CommandKind::NeedleDepth: return "needle_depth";
   }
   return "?";
 }

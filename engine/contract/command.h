@@ -28,8 +28,11 @@ enum class CommandKind : uint8_t {
   SelectNeedle,  // needle `item` becomes the active instrument (read-outs, devices)
   SelectHole,    // needle `item`: aim along template hole (`col`, `row`) of the probe, tip at the
                  // template, held
+  NeedleDepth,   // needle `item`: tip at depth `insertion` [m] along its path (a needle in the probe's
+                 // guide: beyond the guide's exit at the probe's pose; the gun's stroke included),
+                 // then moving along it at `value` [m/s] (0: held)
 };
-inline constexpr int kCommandKinds = 11;
+inline constexpr int kCommandKinds = 12;
 const char* command_kind_name(CommandKind k);
 // -1 when unknown
 int command_kind_from_name(const char* name);

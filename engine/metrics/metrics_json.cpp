@@ -15,6 +15,29 @@ ordered_json mm(double v) { return std::isfinite(v) ? ordered_json(1e3 * v) : or
 ordered_json num(double v) { return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr); }
 ordered_json mm3(const Vec3& p) { return ordered_json::array({1e3 * p.x(), 1e3 * p.y(), 1e3 * p.z()}); }
 
+ordered_json indices_json(const dosimetry::DosimetryIndices& x) {
+  return {{"seeds", x.seeds},
+          {"prostate_cc", x.prostate_cc},
+          {"prostate_d90_gy", x.prostate_d90_gy},
+          {"prostate_v100", x.prostate_v100},
+          {"prostate_v150", x.prostate_v150},
+          {"prostate_v200", x.prostate_v200},
+          {"urethra_d10_gy", x.urethra_d10_gy},
+          {"urethra_d30_gy", x.urethra_d30_gy},
+          {"rectum_d2cc_gy", x.rectum_d2cc_gy},
+          {"rectum_v100_cc", x.rectum_v100_cc}};
+}
+
+ordered_json dosimetry_json(const DosimetryReport& d) {
+  if (!d.computed) return nullptr;
+  return {{"isotope", d.isotope},
+          {"prescription_gy", d.prescription_gy},
+          {"strength_u", d.strength_u},
+          {"grid_mm", 1.0},
+          {"planned", indices_json(d.planned)},
+          {"achieved", indices_json(d.achieved)}};
+}
+
 }  // namespace
 
 std::string metrics_json(const SessionReport& r, const Score& score, const SessionInfo& info) {
@@ -35,6 +58,8 @@ std::string metrics_json(const SessionReport& r, const Score& score, const Sessi
                     {"scale_position", num(han_scale_position(r.mean_error))}, {"scale", han_scale_text(r.mean_error)},
                     {"reference", {{"source", "Han et al., J Urol 2012, pelvic mock-ups"},
                                    {"freehand_mm", 1e3 * kHanFreehandError}, {"robot_mm", 1e3 * kHanRobotError}}}};
+  j["probe"] = {{"peak_force_n", num(r.probe_peak_force)}, {"time_above_threshold_s", num(r.probe_time_above)},
+                {"threshold_n", kProbeForceThreshold}, {"threshold_note", "provisional: no published TRUS probe force found"}};
   j["totals"] = {{"needles", r.needles.size()}, {"punctures", r.punctures}, {"reinsertions", r.reinsertions},
                  {"structures_hit", r.structures_hit}};
   ordered_json needles = ordered_json::array();
@@ -51,17 +76,23 @@ std::string metrics_json(const SessionReport& r, const Score& score, const Sessi
   for (const CoreMetrics& c : r.cores)
     cores.push_back({{"needle", c.needle}, {"taken", c.taken}, {"time_s", c.time}, {"site", c.site},
                      {"planned_site", c.planned_site}, {"lesion_hit", c.lesion_hit}, {"lesion_length_mm", 1e3 * c.lesion_length},
-                     {"notch_length_mm", 1e3 * c.notch_length}});
+                     {"notch_length_mm", 1e3 * c.notch_length},
+                     {"notch_centre_mm", c.taken ? mm3(c.notch_centre) : ordered_json(nullptr)},
+                     {"site_error_mm", mm(c.site_error)}});
   ordered_json per_zone = ordered_json::object();
   for (const auto& [z, n] : r.cores_per_zone) per_zone[z] = n;
-  j["biopsy"] = {{"cores", cores}, {"cores_per_zone", per_zone}, {"planned_sites", r.planned_sites},
-                 {"coverage", num(r.coverage)}, {"lesions_targeted", r.lesions_targeted}, {"lesions_missed", r.lesions_missed}};
+  ordered_json centres = ordered_json::object();
+  for (const PlannedSite& ps : r.planned_site_centres) centres[ps.label] = mm3(ps.centre);
+  j["biopsy"] = {{"cores", cores}, {"cores_per_zone", per_zone}, {"planned_sites", r.planned_sites}, {"planned_site_centres_mm", centres},
+                 {"coverage", num(r.coverage)}, {"cores_outside_gland", r.cores_outside_gland},
+                 {"lesions_targeted", r.lesions_targeted}, {"lesions_missed", r.lesions_missed}};
   ordered_json seeds = ordered_json::array();
   for (const SeedMetrics& s : r.seeds)
     seeds.push_back({{"needle", s.needle}, {"index", s.index}, {"deposited", s.deposited}, {"error_mm", mm(s.error)},
                      {"outside_gland", s.outside_gland}});
   j["brachytherapy"] = {{"seeds", seeds}, {"seed_error_mean_mm", mm(r.seed_error_mean)}, {"seed_error_max_mm", mm(r.seed_error_max)},
-                        {"seeds_outside_gland", r.gland_known ? ordered_json(r.seeds_outside_gland) : ordered_json(nullptr)}};
+                        {"seeds_outside_gland", r.gland_known ? ordered_json(r.seeds_outside_gland) : ordered_json(nullptr)},
+                        {"dosimetry", dosimetry_json(r.dosimetry)}};
   return j.dump(2) + "\n";
 }
 

@@ -5,6 +5,9 @@
 //   coverage     20 x (1 - coverage of the planned biopsy sites)      (when sites are planned)
 //   lesion       10 per targeted lesion whose core holds no tumour
 //   seeds        min(20, 2 x mean seed error [mm]) + 5 per seed outside the gland
+//   dosimetry    40 x (planned - achieved prostate V100, when positive) + 10 if the urethra D10
+//                reaches 150 % of the prescription + 10 if the rectum D2cc reaches it (each only
+//                when the plan kept below it): the TG-43U1 dose of the seeds where they are
 // A session in which no needle reached its decisive moment, or whose simulation faulted,
 // scores 0 (term "incomplete").
 // Scale (Han et al., J Urol 2012, pelvic mock-ups): freehand urologists 9.0 mm mean targeting

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/metrics/planned_sites.h"
+#include "engine/model/organ.h"
 #include "engine/tools/biopsy.h"
 #include "engine/util/error.h"
 
@@ -10,13 +12,11 @@ namespace ps {
 
 namespace {
 
-enum : uint32_t { kUrethra = 1, kRectum = 2, kBladder = 4, kBone = 8 };
-
-bool contains(const std::string& s, const char* w) { return s.find(w) != std::string::npos; }
+enum : uint32_t { kUrethra = 1, kRectum = 2, kBladder = 4, kBone = 8, kLastStructure = kBone };
 
 bool is_tumour_name(const std::string& n, const std::vector<std::string>& listed) {
   if (!listed.empty()) return std::find(listed.begin(), listed.end(), n) != listed.end();
-  return contains(n, "tumo") || contains(n, "lesion");
+  return is_lesion_name(n);
 }
 
 // Does particle p belong to tumour tissue as the needle's core would count it (biopsy.cpp)?
@@ -48,11 +48,13 @@ const char* structure_name(int bit) {
 }
 
 uint32_t structure_of(const Component& c) {
-  if (c.kind == ComponentKind::Rigid) return kBone;
-  if (contains(c.name, "urethra")) return kUrethra;
-  if (contains(c.name, "rect")) return kRectum;
-  if (contains(c.name, "bladder")) return kBladder;
-  return 0;
+  switch (component_organ(c)) {
+    case Organ::Bone: return kBone;
+    case Organ::Urethra: return kUrethra;
+    case Organ::Rectum: return kRectum;
+    case Organ::Bladder: return kBladder;
+    default: return 0;
+  }
 }
 
 SessionMetrics::SessionMetrics(const Model& m, const NeedleTool& tool, const MetricsOptions& opt) : model_(&m), opt_(opt) {
@@ -77,6 +79,13 @@ SessionMetrics::SessionMetrics(const Model& m, const NeedleTool& tool, const Met
     if (sp.target && t.target.component < 0)
       throw InputError(sp.file, sp.line, sp.key + ".target_mm", "the target lies outside every organ");
     if (t.target.anchor.valid()) t.lesion_target = tumour_particle(m, t.target.anchor.idx[0], sp.tumour);
+    t.guided = !sp.guide.empty();
+    if (!sp.planned_sites.empty()) {
+      t.lesion_target = false;  // scored per lesion tag over its cores (finish)
+      for (const PlannedSite& ps : planned_sites(m, sp.planned_sites))
+        if (ps.particles > 0) t.sites.push_back(track_point(m, ps.centre));
+      t.core_error.reserve(kMaxTrackedCores);
+    }
     for (double d : sp.seed_depths) seed_sites_[i].push_back(track_point(m, sp.start + d * t.dir));
   }
   for (const Vec3& u : opt.urethra) urethra_.push_back(track_point(m, u));
@@ -107,14 +116,27 @@ void SessionMetrics::observe(const NeedleTool& tool, const State& s) {
         }
         break;
       case NeedleEventKind::BoneHit: t.hit_mask |= kBone; break;
-      case NeedleEventKind::Core:
+      case NeedleEventKind::Urethra: t.hit_mask |= kUrethra; break;
+      case NeedleEventKind::Core: {
+        const Vec3 dir = tool.readout(e.needle).direction;  // the needle's direction this tick
+        if (!t.sites.empty() && static_cast<int>(t.core_error.size()) < kMaxTrackedCores) {
+          const NeedleSpec& sp = tool.spec(e.needle);
+          const Vec3 a = e.position - sp.gun->notch_offset * dir, b = a - sp.gun->notch_length * dir;
+          double best = INFINITY;
+          for (const TrackedPoint& site : t.sites) best = std::min(best, distance_to_segment(site.position(s.x), a, b));
+          t.core_error.push_back(best);  // capacity reserved: no allocation
+        }
+        ++t.cores_seen;
+        if (t.guided) t.entry_punctures = 0;  // the next pass goes through the rectal wall again
         if (t.gun && !t.decisive) {
           t.decisive = true;
           t.decisive_time = e.time;
-          t.sample = e.position - t.sample_back * t.dir;
+          t.sample = e.position - t.sample_back * (t.guided ? dir : t.dir);
           t.target_now = t.target.position(s.x);
         }
+        if (t.guided) t.decisive_time = e.time;  // the last core ends the procedure
         break;
+      }
       case NeedleEventKind::Seed: t.last_seed_time = e.time; break;
       default: break;
     }
@@ -140,7 +162,9 @@ void SessionMetrics::observe(const NeedleTool& tool, const State& s) {
       else if (d - t.extreme > kReinsertStroke) {
         t.forward = true;
         t.extreme = d;
-        if (!std::isnan(t.first_contact)) ++t.reinsertions;
+        // in the guide, a push after a core is the next core
+        if (!std::isnan(t.first_contact) && !(t.guided && t.cores_seen > t.cores_at_forward)) ++t.reinsertions;
+        t.cores_at_forward = t.cores_seen;
       }
     }
     if (!t.gun && r.contacted && d > t.best_depth) {
@@ -161,12 +185,19 @@ void SessionMetrics::observe(const NeedleTool& tool, const State& s) {
   }
 }
 
+void SessionMetrics::observe_probe(double force, double dt) {
+  probe_peak_ = std::isnan(probe_peak_) ? force : std::max(probe_peak_, force);
+  if (force > kProbeForceThreshold) probe_above_ += dt;
+}
+
 SessionReport SessionMetrics::finish(const NeedleTool& tool, const State& s, bool faulted) const {
   const Model& m = *model_;
   SessionReport rep;
   rep.scenario = m.name;
   rep.duration = s.time;
   rep.faulted = faulted;
+  rep.probe_peak_force = probe_peak_;
+  rep.probe_time_above = std::isnan(probe_peak_) ? NAN : probe_above_;
   double last = NAN;
   double err_sum = 0.0;
   int scored = 0;
@@ -182,7 +213,7 @@ SessionReport SessionMetrics::finish(const NeedleTool& tool, const State& s, boo
     n.mean_force = t.force_ticks > 0 ? t.force_sum / static_cast<double>(t.force_ticks) : 0.0;
     n.first_contact = t.first_contact;
     n.target_in_lesion = t.lesion_target;
-    for (uint32_t b = 1; b <= kBone; b <<= 1)
+    for (uint32_t b = 1; b <= kLastStructure; b <<= 1)
       if (t.hit_mask & b) n.structures_hit.push_back(structure_name(static_cast<int>(b)));
     if (t.decisive) {
       n.scored = true;
@@ -193,6 +224,13 @@ SessionReport SessionMetrics::finish(const NeedleTool& tool, const State& s, boo
       n.error = e.norm();
       n.depth_error = e.dot(t.dir);
       n.lateral_error = (e - n.depth_error * t.dir).norm();
+      if (!t.core_error.empty()) {  // planned sites: each core's notch against its site's centre
+        double sum = 0.0;
+        for (double ce : t.core_error) sum += ce;
+        n.measured_at = "planned sites";
+        n.error = sum / static_cast<double>(t.core_error.size());
+        n.lateral_error = n.depth_error = NAN;
+      }
       double end = t.decisive_time;
       if (!std::isnan(t.last_seed_time)) end = std::max(end, t.last_seed_time);
       n.insertion_time = end - t.first_contact;
@@ -214,29 +252,53 @@ SessionReport SessionMetrics::finish(const NeedleTool& tool, const State& s, boo
     const NeedleSpec& sp = tool.spec(i);
     if (!sp.planned_site.empty() && std::find(rep.planned_sites.begin(), rep.planned_sites.end(), sp.planned_site) == rep.planned_sites.end())
       rep.planned_sites.push_back(sp.planned_site);
+    for (const std::string& ps : sp.planned_sites)
+      if (std::find(rep.planned_sites.begin(), rep.planned_sites.end(), ps) == rep.planned_sites.end()) rep.planned_sites.push_back(ps);
     if (!sp.gun) continue;
-    const CoreReport c = tool.core(i);
-    CoreMetrics cm;
-    cm.needle = sp.name;
-    cm.planned_site = sp.planned_site;
-    cm.taken = c.taken;
-    cm.time = c.time;
-    cm.lesion_hit = c.tumour_particles > 0;
-    cm.lesion_length = c.tumour_length;
-    cm.notch_length = c.notch_length;
-    if (c.taken) {
-      cm.site = core_site(c).label;
-      const std::string key = cm.site.empty() ? "outside the gland" : cm.site;
-      auto it = std::find_if(rep.cores_per_zone.begin(), rep.cores_per_zone.end(), [&](const auto& z) { return z.first == key; });
-      if (it == rep.cores_per_zone.end()) rep.cores_per_zone.emplace_back(key, 1);
-      else ++it->second;
+    std::vector<CoreReport> list = tool.cores(i);
+    if (list.empty()) list.push_back(tool.core(i));  // not taken: listed as such
+    bool lesion_hit = false;
+    std::vector<std::string> lesion_tags_hit;
+    for (size_t k = 0; k < list.size(); ++k) {
+      const CoreReport& c = list[k];
+      CoreMetrics cm;
+      cm.needle = sp.name;
+      cm.planned_site = sp.planned_site;
+      cm.taken = c.taken;
+      cm.time = c.time;
+      cm.lesion_hit = c.tumour_particles > 0;
+      cm.lesion_length = c.tumour_length;
+      cm.notch_length = c.notch_length;
+      cm.notch_centre = c.notch_centre;
+      if (k < tracks_[i].core_error.size()) cm.site_error = tracks_[i].core_error[k];
+      lesion_hit |= cm.lesion_hit;
+      if (c.taken) {
+        const CoreSite site = core_site(c);
+        cm.site = site.label;
+        for (const auto& [tag, count] : site.lesions)
+          if (is_lesion_name(tag) && std::find(lesion_tags_hit.begin(), lesion_tags_hit.end(), tag) == lesion_tags_hit.end())
+            lesion_tags_hit.push_back(tag);
+        if (cm.site.empty()) ++rep.cores_outside_gland;
+        const std::string key = cm.site.empty() ? "outside the gland" : cm.site;
+        auto it = std::find_if(rep.cores_per_zone.begin(), rep.cores_per_zone.end(), [&](const auto& z) { return z.first == key; });
+        if (it == rep.cores_per_zone.end()) rep.cores_per_zone.emplace_back(key, 1);
+        else ++it->second;
+      }
+      rep.cores.push_back(std::move(cm));
     }
     if (tracks_[i].lesion_target) {
       ++rep.lesions_targeted;
-      if (!cm.lesion_hit) ++rep.lesions_missed;
+      if (!lesion_hit) ++rep.lesions_missed;
     }
-    rep.cores.push_back(std::move(cm));
+    if (!sp.planned_sites.empty())  // every lesion of the case is a target of the protocol
+      for (const std::string& tag : m.tag_names)
+        if (is_lesion_name(tag)) {
+          ++rep.lesions_targeted;
+          if (std::find(lesion_tags_hit.begin(), lesion_tags_hit.end(), tag) == lesion_tags_hit.end()) ++rep.lesions_missed;
+        }
   }
+  for (const PlannedSite& ps : planned_sites(m, rep.planned_sites))
+    if (ps.particles > 0) rep.planned_site_centres.push_back(ps);
   if (!rep.planned_sites.empty()) {
     int covered = 0;
     for (const std::string& p : rep.planned_sites)
@@ -266,6 +328,15 @@ SessionReport SessionMetrics::finish(const NeedleTool& tool, const State& s, boo
     rep.seeds.push_back(std::move(sm));
   }
   if (deposited > 0) rep.seed_error_mean = seed_sum / deposited;
+  // TG-43U1 dose of the seeds where the tissue carried them, beside the plan
+  std::vector<Vec3> urethra_rest, urethra_now;
+  for (const TrackedPoint& u : urethra_) {
+    urethra_rest.push_back(u.rest);
+    urethra_now.push_back(u.position(s.x));
+  }
+  DosimetryOptions dopt = opt_.dosimetry;
+  dopt.gland = opt_.gland;
+  rep.dosimetry = implant_dosimetry(m, s.x, tool, urethra_rest, urethra_now, dopt);
   return rep;
 }
 

@@ -17,17 +17,23 @@
 //  * peak and mean axial force over the ticks in contact with tissue (tick averages) [N];
 //  * insertion time: first contact to the decisive moment (last seed for a seed needle) [s];
 //  * structures hit: urethra, rectal wall, bladder, bone, from the Contact / Puncture / BoneHit
-//    events on components named so (urethra*, rect*, bladder*, any rigid component = bone), and
+//    events on those organs (engine/model/organ.h: by component name, any rigid component = bone),
+//    the Urethra event, and
 //    for the urethra also the tip coming within MetricsOptions::urethra_radius of the urethra
 //    centre line (carried by the tissue) when one is given. The component the needle enters
 //    first is its route (the rectal wall for a transrectal biopsy), not a hit, unless it is
 //    punctured a second time.
 // Biopsy: each core's 12-core site (core_site), lesion hit (tumour particles in the notch) and
-// lesion length; cores per zone; coverage = planned sites (NeedleSpec::planned_site) with a core
-// whose site label starts with them / planned sites; a needle whose target lies in tumour tissue
-// is a targeted lesion, missed when its core holds no tumour.
+// lesion length; cores per zone; cores outside the gland; coverage = planned sites
+// (NeedleSpec::planned_site, planned_sites) with a core whose site label starts with them / planned
+// sites; a needle whose target lies in tumour tissue is a targeted lesion, missed when its core
+// holds no tumour. A needle with planned sites (the 12-core protocol with one needle in the guide)
+// is scored per core: its error is the mean over its cores of the distance from the notch to the
+// nearest planned site's centre (engine/metrics/planned_sites.h), carried by the tissue, and each
+// lesion tag of the model is a targeted lesion, missed when none of its cores holds it.
 // Brachytherapy: each deposited seed against its planned site carried by the tissue (mean, max
-// error) and seeds whose position is outside the gland surface (winding number < 1/2).
+// error) and seeds whose position is outside the gland surface (winding number < 1/2); the
+// implant's dose (TG-43U1) planned and achieved (implant_dosimetry.h).
 // Procedure time: first contact of any needle to the last needle's decisive moment [s].
 #pragma once
 #include <cstdint>
@@ -35,6 +41,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/metrics/implant_dosimetry.h"
+#include "engine/metrics/planned_sites.h"
 #include "engine/metrics/tracked_point.h"
 #include "engine/state/state.h"
 #include "engine/tools/needle.h"
@@ -42,11 +50,18 @@
 namespace ps {
 
 inline constexpr double kReinsertStroke = 2e-3;  // withdrawal that makes the next push a re-insertion [m]
+inline constexpr int kMaxTrackedCores = 64;      // cores per needle whose error to a planned site is kept
+
+// Probe contact force on the rectal wall above which the time is counted [N]. PROVISIONAL: no
+// published measurement of TRUS probe force during biopsy was found; 10 N is the order of the
+// gland-deforming pushes of the probe validation cases (docs/metrics.md).
+inline constexpr double kProbeForceThreshold = 10.0;
 
 struct MetricsOptions {
   std::string gland = "prostate";  // component whose surface is the gland (seeds outside it)
   std::vector<Vec3> urethra;       // urethra centre line at rest [m] (empty: by component name only)
   double urethra_radius = 3e-3;    // [m]
+  DosimetryOptions dosimetry;      // isotope, prescription, seed strength (its gland: `gland`)
 };
 
 struct NeedleMetrics {
@@ -71,6 +86,8 @@ struct CoreMetrics {
   bool taken = false, lesion_hit = false;
   double lesion_length = 0.0, notch_length = 0.0;  // [m]
   double time = 0.0;                // [s]
+  Vec3 notch_centre = Vec3::Zero(); // where the notch's centre was when the core was taken [m]
+  double site_error = NAN;          // planned sites: notch (segment) to the nearest site centre [m]
 };
 
 struct SeedMetrics {
@@ -89,17 +106,24 @@ struct SessionReport {
   std::vector<CoreMetrics> cores;
   std::vector<std::pair<std::string, int>> cores_per_zone;  // site label -> cores
   std::vector<std::string> planned_sites;
+  std::vector<PlannedSite> planned_site_centres;  // each planned site's peripheral-zone centre at rest
   double coverage = NAN;            // of the planned sites, NAN when none planned
+  int cores_outside_gland = 0;      // cores whose notch held no prostate tissue
   int lesions_targeted = 0, lesions_missed = 0;
   // brachytherapy
   std::vector<SeedMetrics> seeds;
   double seed_error_mean = NAN, seed_error_max = NAN;  // [m]
   int seeds_outside_gland = 0;
   bool gland_known = false;
+  DosimetryReport dosimetry;        // planned and achieved TG-43U1 indices (computed: has seeds)
   // targeting summary over the scored needles
   double mean_error = NAN, max_error = NAN;  // [m]
   int structures_hit = 0, reinsertions = 0, punctures = 0;
   bool faulted = false;
+  // the probe's contact force (the tissue's force on it, tick mean): peak and time above
+  // kProbeForceThreshold; NAN without a probe
+  double probe_peak_force = NAN;    // [N]
+  double probe_time_above = NAN;    // [s]
 };
 
 class SessionMetrics {
@@ -108,6 +132,8 @@ class SessionMetrics {
   SessionMetrics(const Model& m, const NeedleTool& tool, const MetricsOptions& opt = {});
   // After each tick (outside the step): no allocation.
   void observe(const NeedleTool& tool, const State& s);
+  // After each tick of a scene with a probe: its contact force [N] over the tick dt [s].
+  void observe_probe(double force, double dt);
   SessionReport finish(const NeedleTool& tool, const State& s, bool faulted = false) const;
 
  private:
@@ -132,6 +158,14 @@ class SessionMetrics {
     int entry_punctures = 0;
     uint32_t hit_mask = 0;          // bit per kStructure*
     bool lesion_target = false;
+    // a needle in the probe's guide takes several cores (NeedleSpec::guide): a push after a core
+    // is the next core, not a re-insertion, and its route is punctured again on every pass
+    bool guided = false;
+    int cores_seen = 0, cores_at_forward = 0;
+    // planned sites (NeedleSpec::planned_sites): their centres carried by the tissue, and each
+    // core's distance from its notch (the segment) to the nearest centre [m]
+    std::vector<TrackedPoint> sites;
+    std::vector<double> core_error;  // capacity kMaxTrackedCores
   };
   const Model* model_;
   MetricsOptions opt_;
@@ -143,6 +177,7 @@ class SessionMetrics {
   std::vector<uint8_t> structure_of_;                  // [components] kStructure* bit or 0
   int64_t events_seen_ = 0;
   double first_contact_ = NAN;
+  double probe_peak_ = NAN, probe_above_ = 0.0;
 };
 
 // Names of the structure bits (urethra, rectal wall, bladder, bone).

@@ -1,4 +1,5 @@
 #include "engine/realtime/script.h"
+#include "engine/realtime/script_entry.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -19,11 +20,13 @@ constexpr double kDeg = 3.14159265358979323846 / 180.0;
 const char* const kActions[] = {"probe", "needle", "advance", "fire", "deposit_seed", "select", "hole",
                                 "rotate", "release", "fill_rate", "fill_to"};
 
-ScriptEntry parse_entry(const YamlReader& r, const YAML::Node& n, const std::string& where) {
-  if (!n.IsMap()) r.fail(n, where, "expected a mapping like {t: 1.0, fire: biopsy_1}");
+// with_t: a timeline entry (`t` required); without: a live command (no `t` allowed)
+ScriptEntry parse_entry(const YamlReader& r, const YAML::Node& n, const std::string& where, bool with_t = true) {
+  if (!n.IsMap()) r.fail(n, where, with_t ? "expected a mapping like {t: 1.0, fire: biopsy_1}" : "expected a mapping like {fire: biopsy_1}");
   ScriptEntry e;
   e.line = YamlReader::line_of(n);
-  e.t = r.non_negative(r.require(n, where, "t"), where + ".t");
+  if (with_t) e.t = r.non_negative(r.require(n, where, "t"), where + ".t");
+  else if (n["t"]) r.fail(n["t"], where + ".t", "a live command takes no time: it is applied at the next tick");
   // exactly one action key
   for (const char* a : kActions)
     if (n[a].IsDefined()) {
@@ -160,92 +163,118 @@ double script_needle_depth(const Script& script, const std::string& needle, doub
   return prev ? prev->depth : NAN;
 }
 
+ScriptEntry parse_command_text(const std::string& text, const std::string& where) {
+  YamlReader r("");
+  try {
+    const YAML::Node n = YAML::Load(text);
+    return parse_entry(r, n, where, false);
+  } catch (const YAML::Exception& e) {
+    throw InputError("", 0, where, "malformed command: " + e.msg);
+  }
+}
+
+Command entry_command(const ScriptEntry& e, const Scene& scene, int64_t tick, ProbePose& probe_pose, double needle_speed,
+                      const std::string& file) {
+  const auto& tools = scene.sim->tools();
+  Command c;
+  c.tick = tick;
+  if (e.action == "probe") {
+    if (scene.probe_tool < 0) throw InputError(file, e.line, "probe", "the scene has no probe");
+    if (e.has_insertion) probe_pose.insertion = e.insertion;
+    if (e.has_offset) probe_pose.offset = e.offset;
+    if (e.has_roll) probe_pose.roll = e.roll;
+    if (e.has_tilt) probe_pose.tilt = e.tilt;
+    if (e.has_yaw) probe_pose.yaw = e.yaw;
+    c.kind = CommandKind::ProbeMove;
+    c.tool = static_cast<int16_t>(scene.probe_tool);
+    c.insertion = probe_pose.insertion;
+    for (int i = 0; i < 3; ++i) c.offset[i] = probe_pose.offset[i];
+    c.roll = probe_pose.roll;
+    c.tilt = probe_pose.tilt;
+    c.yaw = probe_pose.yaw;
+    c.duration = e.over;
+    return c;
+  }
+  if (e.action == "fill_rate" || e.action == "fill_to") {
+    if (scene.filling_tool < 0) throw InputError(file, e.line, e.action, "the scene has no filling");
+    c.kind = e.action == "fill_rate" ? CommandKind::FillRate : CommandKind::FillTo;
+    c.tool = static_cast<int16_t>(scene.filling_tool);
+    c.component = scene.model->find_component(e.target);
+    if (c.component < 0) throw InputError(file, e.line, e.action, "the scene has no component '" + e.target + "'");
+    c.value = e.value;
+    c.duration = e.over;
+    return c;
+  }
+  const int i = scene.needle_tool >= 0 ? tools[scene.needle_tool]->find_item(e.target.c_str()) : -1;
+  if (i < 0) throw InputError(file, e.line, e.action, "the scene has no needle named '" + e.target + "'");
+  c.tool = static_cast<int16_t>(scene.needle_tool);
+  c.item = static_cast<int16_t>(i);
+  const NeedleSpec& ns = scene.spec.needles.needles[i];
+  if (e.action == "needle" && e.depth > ns.length)
+    throw InputError(file, e.line, "depth_mm",
+                     "depth " + std::to_string(e.depth * 1e3) + " mm is beyond needle '" + ns.name + "''s length " +
+                         std::to_string(ns.length * 1e3) + " mm");
+  if (e.action == "needle" && !ns.guide.empty()) {
+    // in the probe's guide: the depth along the guide wherever the probe is
+    c.kind = CommandKind::NeedleDepth;
+    c.insertion = e.depth;
+    c.value = needle_speed;
+    return c;
+  }
+  if (e.action == "needle") {
+    c.kind = CommandKind::NeedleAim;
+    const Vec3 dir = ns.direction.normalized();
+    const Vec3 tip = ns.start + e.depth * dir;
+    for (int q = 0; q < 3; ++q) {
+      c.pos[q] = tip[q];
+      c.dir[q] = dir[q];
+    }
+    c.value = needle_speed;
+  } else if (e.action == "advance") {
+    c.kind = CommandKind::NeedleAdvance;
+    c.value = e.speed;
+  } else if (e.action == "rotate") {
+    c.kind = CommandKind::NeedleRotate;
+    c.value = e.angle;
+  } else if (e.action == "hole") {
+    c.kind = CommandKind::SelectHole;
+    c.col = e.col;
+    c.row = e.row;
+  } else if (e.action == "fire") {
+    c.kind = CommandKind::FireGun;
+  } else if (e.action == "deposit_seed") {
+    c.kind = CommandKind::DepositSeed;
+  } else if (e.action == "select") {
+    c.kind = CommandKind::SelectNeedle;
+  } else if (e.action == "release") {
+    c.kind = CommandKind::NeedleRelease;
+  }
+  return c;
+}
+
 std::vector<Command> script_commands(const Script& script, const Scene& scene) {
   const double dt = scene.model->dt;
-  const auto& tools = scene.sim->tools();
   if (!script.scenario.empty() && script.scenario != scene.spec.name)
     throw InputError(script.file, 1, "scenario",
                      "script written for scenario '" + script.scenario + "', not '" + scene.spec.name + "'");
   auto tick_of = [&](double t) { return static_cast<int64_t>(std::llround(t / dt)); };
-  auto needle_index = [&](const ScriptEntry& e) {
-    const int i = scene.needle_tool >= 0 ? tools[scene.needle_tool]->find_item(e.target.c_str()) : -1;
-    if (i < 0) throw InputError(script.file, e.line, e.action, "the scene has no needle named '" + e.target + "'");
-    return i;
-  };
   std::vector<Command> out;
   // probe pose commanded so far (fields not given keep it)
   ProbePose probe_pose = scene.spec.probe ? scene.spec.probe->pose : ProbePose{};
   for (size_t k = 0; k < script.entries.size(); ++k) {
     const ScriptEntry& e = script.entries[k];
-    Command c;
-    c.tick = tick_of(e.t);
-    if (e.action == "probe") {
-      if (scene.probe_tool < 0) throw InputError(script.file, e.line, "probe", "the scene has no probe");
-      if (e.has_insertion) probe_pose.insertion = e.insertion;
-      if (e.has_offset) probe_pose.offset = e.offset;
-      if (e.has_roll) probe_pose.roll = e.roll;
-      if (e.has_tilt) probe_pose.tilt = e.tilt;
-      if (e.has_yaw) probe_pose.yaw = e.yaw;
-      c.kind = CommandKind::ProbeMove;
-      c.tool = static_cast<int16_t>(scene.probe_tool);
-      c.insertion = probe_pose.insertion;
-      for (int i = 0; i < 3; ++i) c.offset[i] = probe_pose.offset[i];
-      c.roll = probe_pose.roll;
-      c.tilt = probe_pose.tilt;
-      c.yaw = probe_pose.yaw;
-      c.duration = e.over;
-    } else if (e.action == "fill_rate" || e.action == "fill_to") {
-      if (scene.filling_tool < 0) throw InputError(script.file, e.line, e.action, "the scene has no filling");
-      c.kind = e.action == "fill_rate" ? CommandKind::FillRate : CommandKind::FillTo;
-      c.tool = static_cast<int16_t>(scene.filling_tool);
-      c.component = scene.model->find_component(e.target);
-      if (c.component < 0) throw InputError(script.file, e.line, e.action, "the scene has no component '" + e.target + "'");
-      c.value = e.value;
-      c.duration = e.over;
-    } else {
-      const int i = needle_index(e);
-      c.tool = static_cast<int16_t>(scene.needle_tool);
-      c.item = static_cast<int16_t>(i);
-      const NeedleSpec& ns = scene.spec.needles.needles[i];
-      if (e.action == "needle") {
-        // aim at this key, moving at the speed that reaches the next key of this needle on time
-        double speed = 0.0;
-        for (size_t j = k + 1; j < script.entries.size(); ++j) {
-          const ScriptEntry& nx = script.entries[j];
-          if (nx.action != "needle" || nx.target != e.target) continue;
-          const double span = (tick_of(nx.t) - c.tick) * dt;  // on the tick grid: lands on the key
-          if (span > 0) speed = (nx.depth - e.depth) / span;
-          break;
-        }
-        c.kind = CommandKind::NeedleAim;
-        const Vec3 dir = ns.direction.normalized();
-        const Vec3 tip = ns.start + e.depth * dir;
-        for (int q = 0; q < 3; ++q) {
-          c.pos[q] = tip[q];
-          c.dir[q] = dir[q];
-        }
-        c.value = speed;
-      } else if (e.action == "advance") {
-        c.kind = CommandKind::NeedleAdvance;
-        c.value = e.speed;
-      } else if (e.action == "rotate") {
-        c.kind = CommandKind::NeedleRotate;
-        c.value = e.angle;
-      } else if (e.action == "hole") {
-        c.kind = CommandKind::SelectHole;
-        c.col = e.col;
-        c.row = e.row;
-      } else if (e.action == "fire") {
-        c.kind = CommandKind::FireGun;
-      } else if (e.action == "deposit_seed") {
-        c.kind = CommandKind::DepositSeed;
-      } else if (e.action == "select") {
-        c.kind = CommandKind::SelectNeedle;
-      } else if (e.action == "release") {
-        c.kind = CommandKind::NeedleRelease;
+    const int64_t tick = tick_of(e.t);
+    // a needle key: moving at the speed that reaches the next key of this needle on time
+    double speed = 0.0;
+    if (e.action == "needle")
+      for (size_t j = k + 1; j < script.entries.size(); ++j) {
+        const ScriptEntry& nx = script.entries[j];
+        if (nx.action != "needle" || nx.target != e.target) continue;
+        const double span = (tick_of(nx.t) - tick) * dt;  // on the tick grid: lands on the key
+        if (span > 0) speed = (nx.depth - e.depth) / span;
+        break;
       }
-    }
-    out.push_back(c);
+    out.push_back(entry_command(e, scene, tick, probe_pose, speed, script.file));
   }
   std::stable_sort(out.begin(), out.end(), [](const Command& a, const Command& b) { return a.tick < b.tick; });
   return out;

@@ -11,6 +11,7 @@
 #include "engine/spec/yaml_reader.h"
 #include "engine/tools/needle_spec_yaml.h"
 #include "engine/tools/filling_parse.h"
+#include "engine/tools/probe_guide.h"
 #include "engine/tools/probe_parse.h"
 
 namespace ps {
@@ -296,7 +297,7 @@ ScenarioSpec parse_scenario_impl(const std::string& text, const std::string& pat
   }
   if (!root.IsMap()) throw InputError(path, 1, "", "a scenario file is a YAML mapping (name:, components:, ...)");
   r.only_keys(root, "", {"name", "solver", "time", "gravity_m_s2", "rest", "watchdog", "materials", "components", "constraints",
-                         "overrides", "links", "probe", "filling", "tags", "prostate_zones", "needles"});
+                         "overrides", "links", "probe", "filling", "tags", "prostate_zones", "lesions", "needles"});
   const std::string dir = std::filesystem::path(path).parent_path().string();
   ScenarioSpec s;
   s.file = path;
@@ -410,9 +411,32 @@ ScenarioSpec parse_scenario_impl(const std::string& text, const std::string& pat
       zs.peripheral_depth = r.ranged(z["peripheral_depth_mm"], "prostate_zones.peripheral_depth_mm", 1e-3, 100.0, "mm") * kMm;
     s.prostate_zones = zs;
   }
+  if (const YAML::Node l = root["lesions"]) {
+    r.only_keys(l, "lesions", {"count", "seed", "zone", "diameter_mm"});
+    if (!s.prostate_zones) r.fail(l, "lesions", "lesions are placed in a prostate zone: give prostate_zones first");
+    LesionsSpec ls;
+    ls.loc = loc_of(r, l);
+    if (l["count"]) {
+      ls.count = r.integer(l["count"], "lesions.count");
+      if (ls.count < 1 || ls.count > 8) r.fail(l["count"], "lesions.count", "must be 1..8");
+    }
+    if (l["seed"]) {
+      const int seed = r.integer(l["seed"], "lesions.seed");
+      if (seed < 0) r.fail(l["seed"], "lesions.seed", "must be >= 0");
+      ls.seed = static_cast<uint64_t>(seed);
+    }
+    if (l["zone"]) {
+      ls.zone = r.string(l["zone"], "lesions.zone");
+      if (ls.zone != "peripheral" && ls.zone != "transition" && ls.zone != "anterior")
+        r.fail(l["zone"], "lesions.zone", "unknown zone '" + ls.zone + "' (peripheral, transition, anterior)");
+    }
+    if (l["diameter_mm"]) ls.diameter = r.ranged(l["diameter_mm"], "lesions.diameter_mm", 2.0, 40.0, "mm") * kMm;
+    s.lesions = ls;
+  }
   if (root["probe"]) parse_probe_section(r, root["probe"], s);        // engine/tools/probe_parse.cpp
   if (root["filling"]) parse_filling_section(r, root["filling"], s);  // engine/tools/filling_parse.cpp
   if (root["needles"]) s.needles = parse_needles_yaml(r, root["needles"]);
+  place_guided_needles(s);  // needles in the probe's guide start on it (engine/tools/probe_guide.h)
 
   // cross references, checked here so errors point at the line that names them
   auto has_material = [&](const std::string& m) {

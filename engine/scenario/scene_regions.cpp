@@ -89,6 +89,51 @@ ParticleSet fill_excluding(const ScenarioSpec& spec, size_t ci, const std::vecto
       [&](const Vec3& p) { return own.distance(p); });
 }
 
+namespace {
+
+uint64_t splitmix64(uint64_t& x) {
+  uint64_t z = (x += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+// `lesions:`: spheres on particles of the zone drawn from the seed, a diameter apart (LesionsSpec)
+void place_lesions(const ScenarioSpec& spec, Model& m) {
+  const LesionsSpec& ls = *spec.lesions;
+  const Component& comp = m.components[m.find_component(spec.prostate_zones->component)];
+  const int zone = m.find_tag(ls.zone);
+  std::vector<int> cand;
+  for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p)
+    if (zone >= 0 && (m.particle_tags[p] >> zone & 1u)) cand.push_back(p);
+  if (cand.empty()) throw InputError(spec.file, ls.loc.line, "lesions.zone", "no particle of the gland lies in zone '" + ls.zone + "'");
+  uint64_t state = ls.seed;
+  std::vector<Vec3> centres;
+  for (int k = 0; k < ls.count; ++k) {
+    Vec3 c = Vec3::Zero();
+    bool placed = false;
+    for (int attempt = 0; attempt < 1000 && !placed; ++attempt) {
+      c = m.rest_pos[cand[splitmix64(state) % cand.size()]];
+      placed = true;
+      for (const Vec3& o : centres) placed &= (o - c).norm() >= ls.diameter;
+    }
+    if (!placed)
+      throw InputError(spec.file, ls.loc.line, "lesions.count",
+                       std::to_string(ls.count) + " lesions of " + std::to_string(ls.diameter * 1e3) + " mm do not fit a diameter apart in zone '" + ls.zone + "'");
+    centres.push_back(c);
+    if (m.tag_names.size() >= 64) throw InputError(spec.file, ls.loc.line, "lesions", "more than 64 tags (zones included)");
+    const std::string name = "lesion_" + std::to_string(k + 1);
+    if (m.find_tag(name) >= 0) throw InputError(spec.file, ls.loc.line, "lesions", "tag '" + name + "' is already given under tags:");
+    const int bit = static_cast<int>(m.tag_names.size());
+    m.tag_names.push_back(name);
+    const double r = 0.5 * ls.diameter;
+    for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p)
+      if ((m.rest_pos[p] - c).norm() <= r) m.particle_tags[p] |= uint64_t{1} << bit;
+  }
+}
+
+}  // namespace
+
 void apply_particle_tags(const ScenarioSpec& spec, Model& m, const std::vector<std::vector<std::array<int, 3>>>& faces_of) {
   if (!spec.prostate_zones && spec.tags.empty()) return;
   const int n = m.particle_count();
@@ -133,6 +178,7 @@ void apply_particle_tags(const ScenarioSpec& spec, Model& m, const std::vector<s
     if (hits == 0)
       throw InputError(spec.file, t.loc.line, key + ".region", "selects no particle of component '" + t.component + "'");
   }
+  if (spec.lesions) place_lesions(spec, m);
 }
 
 }  // namespace ps::anatomy

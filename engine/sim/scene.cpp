@@ -3,10 +3,12 @@
 #include <fstream>
 #include <sstream>
 
+#include "engine/metrics/metrics_options.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/tools/filling.h"
 #include "engine/tools/needle.h"
 #include "engine/tools/probe.h"
+#include "engine/tools/probe_guide.h"
 #include "engine/util/error.h"
 #include "engine/util/state_io.h"
 
@@ -15,6 +17,7 @@ namespace ps {
 Scene build_scene(const ScenarioSpec& spec) {
   Scene sc;
   sc.spec = spec;
+  place_guided_needles(sc.spec);  // a needle in the probe's guide starts on it (a spec built in code)
   sc.model = compile_scenario(sc.spec, &sc.report);
   sc.sim = std::make_unique<Simulation>(sc.model);
   NeedleTool* needles = nullptr;
@@ -35,6 +38,10 @@ Scene build_scene(const ScenarioSpec& spec) {
     sc.sim->add_tool(std::move(t));
   }
   if (needles && probe) needles->attach_probe(probe);
+  if (needles && sc.spec.prostate_zones) {  // the anatomy's urethra line, when it has one
+    const MetricsOptions opt = metrics_options_for(sc.spec);
+    needles->set_urethra(opt.urethra, opt.urethra_radius);
+  }
   return sc;
 }
 

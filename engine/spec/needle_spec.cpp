@@ -109,3 +109,15 @@ void validate_needle_spec(const NeedleSpec& s) {
 }
 
 }  // namespace ps
+
+namespace ps {
+
+std::vector<std::string> twelve_core_sites() {
+  std::vector<std::string> out;
+  for (const char* side : {"right", "left"})
+    for (const char* level : {"base", "mid", "apex"})
+      for (const char* ml : {"lateral", "medial"}) out.push_back(std::string(side) + " " + level + " " + ml);
+  return out;
+}
+
+}  // namespace ps

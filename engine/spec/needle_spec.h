@@ -66,6 +66,14 @@ struct NeedleSpec {
   // the zone) whose coverage is scored
   std::optional<Vec3> target;
   std::string planned_site;
+  // a biopsy needle that takes several cores: the planned 12-core sites it should cover, each
+  // aimed at through the centre of that site's peripheral zone (`planned_sites: 12-core`)
+  std::vector<std::string> planned_sites;
+  // "biopsy": the needle rides in the probe's biopsy guide. Its entry and direction follow the
+  // probe's pose every substep (start / direction: the guide at the probe's start pose, set by
+  // build_scene); its depth is commanded live, and after each core, back in the guide, it is
+  // re-armed and fires again. "": a free needle on its own start / direction.
+  std::string guide;
   // where it came from, for errors found later against the compiled model
   std::string file;
   int line = 0;
@@ -82,6 +90,10 @@ struct NeedleSetSpec {
   std::string file;
   int line = 0;
 };
+
+// The systematic 12-core scheme (base / mid / apex x lateral / medial x right / left), as the
+// site labels anatomy::zone_label gives them without the zone ("right base lateral", ...).
+std::vector<std::string> twelve_core_sites();
 
 // Outer diameter of a needle gauge [m] (Stubs); 0 when the gauge is not tabulated (10..30).
 double gauge_diameter(int gauge);

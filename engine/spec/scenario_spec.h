@@ -188,6 +188,19 @@ struct ZonesSpec {
   SourceLoc loc;
 };
 
+// Lesions placed per case from a seed (`lesions:`): `count` spheres of `diameter` centred on
+// particles of the prostate_zones component drawn (splitmix64 from `seed`, at least a diameter
+// apart) among those carrying the zone tag `zone`; their particles get the tags lesion_1,
+// lesion_2, ... (MRI-visible targets: cores holding them count as lesion hits). Same seed, same
+// case on every machine.
+struct LesionsSpec {
+  int count = 1;
+  uint64_t seed = 1;
+  std::string zone = "peripheral";  // a prostate zone tag (engine/anatomy/zones.h)
+  double diameter = 10e-3;          // [m]
+  SourceLoc loc;
+};
+
 struct ScenarioSpec {
   std::string file;                // source path
   std::string name;
@@ -220,6 +233,7 @@ struct ScenarioSpec {
   std::vector<LinkSpec> links;
   std::vector<TagSpec> tags;                 // tags: named particle regions
   std::optional<ZonesSpec> prostate_zones;   // prostate_zones: zone tags on the prostate
+  std::optional<LesionsSpec> lesions;        // lesions: placed from a seed (needs prostate_zones)
   std::optional<ProbeSpec> probe;  // probe: section (engine/tools/probe.h)
   std::optional<FillingSpec> filling;  // filling: section (engine/tools/filling.h)
   NeedleSetSpec needles;           // needles: section (engine/spec/needle_spec.h)

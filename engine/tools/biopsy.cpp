@@ -36,6 +36,8 @@ void update_biopsy(NeedleTool::Needle& nd, const Model& m, const State& s, Needl
   CoreState& core = nd.core;
   core.taken = true;
   core.time = s.time;
+  core.tip = nd.T;
+  core.direction = nd.d;
   core.particles.clear();
   core.tumour_pos.clear();
   core.tumour_half.clear();

@@ -7,8 +7,10 @@
 #include <limits>
 #include <numeric>
 
+#include "engine/model/organ.h"
 #include "engine/tools/bone_contact.h"
 #include "engine/tools/needle_internal.h"
+#include "engine/tools/probe.h"
 #include "engine/util/error.h"
 
 namespace ps {
@@ -47,10 +49,6 @@ double segment_distance(const Vec3& a, const Vec3& dir, double len, const Vec3& 
   return (p - (a + t * dir)).norm();
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 }  // namespace
 
@@ -64,6 +62,7 @@ const char* needle_event_name(NeedleEventKind k) {
     case NeedleEventKind::Core: return "core";
     case NeedleEventKind::BoneHit: return "bone_hit";
     case NeedleEventKind::ForceClamped: return "force_clamped";
+    case NeedleEventKind::Urethra: return "urethra";
   }
   return "?";
 }
@@ -210,6 +209,28 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
     nd.pending.assign(nd.node_count, 0);
     nd.debounce = std::max(1, static_cast<int>(std::lround(2e-3 / h_sub)));
     nd.fire_time = spec.gun ? spec.gun->fire_time : NAN;
+    if (!spec.guide.empty()) {
+      // in the probe's guide: start / direction are the guide at the probe's start pose
+      // (build_scene); attach_probe makes the needle follow it
+      nd.guided = true;
+      nd.interactive = spec.script.empty();  // a scenario script drives its depth along the guide until a live command
+      nd.guide_now = nd.guide_prev = NeedlePath{spec.start, spec.direction};
+      nd.h_sub = h_sub;
+      nd.plan_reach = reach;
+      nd.plan_scratch.reserve(n);
+      nd.plan_t.reserve(n);
+      nd.plan_idx.reserve(n);
+      if (spec.gun) {
+        nd.cores_done.resize(kMaxGuideCores);
+        for (CoreState& c : nd.cores_done) {
+          c.particles.reserve(kCoreCapacity);
+          c.tumour_pos.reserve(kCoreCapacity);
+          c.tumour_half.reserve(kCoreCapacity);
+          c.per_component.assign(nc, 0);
+          c.per_tag.assign(m.tag_names.size(), 0);
+        }
+      }
+    }
     Vec3 v0;
     needle_command(nd, 0.0, nd.T, nd.d, v0);
     // a needle that starts inside a membrane component has already entered it
@@ -248,13 +269,9 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
         if (t >= 0) nd.tumour_tags |= uint64_t{1} << t;
       }
     } else {
-      auto is_tumour = [](const std::string& name) {
-        const std::string l = lower(name);
-        return l.find("tumo") != std::string::npos || l.find("lesion") != std::string::npos;
-      };
-      for (int c = 0; c < nc; ++c) nd.tumour[c] = is_tumour(m.components[c].name);
+      for (int c = 0; c < nc; ++c) nd.tumour[c] = component_organ(m.components[c]) == Organ::Lesion;
       for (size_t t = 0; t < m.tag_names.size(); ++t)
-        if (is_tumour(m.tag_names[t])) nd.tumour_tags |= uint64_t{1} << t;
+        if (is_lesion_name(m.tag_names[t])) nd.tumour_tags |= uint64_t{1} << t;
     }
     // explicit springs on particles: press and virtual-particle stiffness vs the substep, with the
     // margin the compiler keeps for the tissue (0.9 of the explicit limit 2 sqrt(m / k), m the
@@ -287,6 +304,7 @@ void NeedleTool::forces(const Model& m, State& s, double dt) {
   // node (stick/slide) and the needle movement. The zones depend on the positions only, so
   // zoning every needle first changes nothing but lets the bound see all of them.
   for (auto& p : needles_) {
+    if (p->guided && probe_) follow_guide(*p, m, s, probe_->biopsy_guide());
     update_needle_zones(*p, m, s, puncture_kc_, *membranes_, events_);
     prepare_needle_anchors(*p, s);
   }
@@ -304,15 +322,17 @@ void NeedleTool::forces(const Model& m, State& s, double dt) {
 }
 
 void NeedleTool::after_step(const Model& m, State& s, double) {
+  if (!urethra_rest_.empty() && s.step % m.substeps == 0) check_urethra(m, s);
   for (auto& p : needles_) {
     Needle& nd = *p;
     update_seeds(nd, m, s, events_);
     update_biopsy(nd, m, s, events_);
+    rearm_in_guide(nd, s.time);
     NeedleReadout& ro = nd.ro;
     ro.tip = nd.T;
     ro.direction = nd.d;
     ro.velocity = nd.V;
-    ro.plan_depth = plan_depth(nd);
+    ro.plan_depth = nd.guided ? (nd.T - nd.guide_now.entry).dot(nd.guide_now.direction) : plan_depth(nd);
     ro.depth = insertion_depth(nd);
     ro.contacted = nd.contacted;
     if (nd.phase_blocked > 0) { --nd.phase_blocked; ro.phase = NeedlePhase::Blocked; }
@@ -377,21 +397,57 @@ std::vector<SeedReport> NeedleTool::seeds() const {
   return out;
 }
 
+namespace {
+
+CoreReport core_report(const Model& m, const NeedleTool::Needle& nd, const CoreState& core) {
+  CoreReport r;
+  r.needle = nd.index;
+  r.taken = core.taken;
+  r.time = core.time;
+  r.particles = core.particles;
+  for (size_t c = 0; c < core.per_component.size(); ++c)
+    if (core.per_component[c] > 0) r.per_component.emplace_back(m.components[c].name, core.per_component[c]);
+  for (size_t t = 0; t < core.per_tag.size(); ++t)
+    if (core.per_tag[t] > 0) r.per_tag.emplace_back(m.tag_names[t], core.per_tag[t]);
+  r.tumour_particles = core.tumour_particles;
+  r.tumour_length = core.tumour_length;
+  r.notch_length = nd.spec.gun ? nd.spec.gun->notch_length : 0.0;
+  if (nd.spec.gun) {
+    const double back = nd.spec.gun->notch_offset + 0.5 * nd.spec.gun->notch_length;
+    r.notch_centre = core.tip - back * core.direction;
+  }
+  r.direction = core.direction;
+  return r;
+}
+
+}  // namespace
+
 CoreReport NeedleTool::core(int i) const {
   const Needle& nd = *needles_.at(i);
-  CoreReport r;
-  r.needle = i;
-  r.taken = nd.core.taken;
-  r.time = nd.core.time;
-  r.particles = nd.core.particles;
-  for (size_t c = 0; c < nd.core.per_component.size(); ++c)
-    if (nd.core.per_component[c] > 0) r.per_component.emplace_back(model_->components[c].name, nd.core.per_component[c]);
-  for (size_t t = 0; t < nd.core.per_tag.size(); ++t)
-    if (nd.core.per_tag[t] > 0) r.per_tag.emplace_back(model_->tag_names[t], nd.core.per_tag[t]);
-  r.tumour_particles = nd.core.tumour_particles;
-  r.tumour_length = nd.core.tumour_length;
-  r.notch_length = nd.spec.gun ? nd.spec.gun->notch_length : 0.0;
-  return r;
+  return core_report(*model_, nd, nd.core);
+}
+
+std::vector<CoreReport> NeedleTool::cores(int i) const {
+  const Needle& nd = *needles_.at(i);
+  std::vector<CoreReport> out;
+  for (int k = 0; k < nd.cores_done_n; ++k) out.push_back(core_report(*model_, nd, nd.cores_done[k]));
+  if (nd.core.taken) out.push_back(core_report(*model_, nd, nd.core));
+  return out;
+}
+
+bool NeedleTool::guided(int i) const { return needles_.at(i)->guided; }
+
+void NeedleTool::attach_probe(const ProbeTool* probe) {
+  probe_ = probe;
+  if (!probe) return;
+  for (auto& p : needles_)
+    if (p->guided) {
+      p->guide_now = p->guide_prev = probe->biopsy_guide();
+      Vec3 v0;
+      needle_command(*p, 0.0, p->T, p->d, v0);
+      p->ro.tip = p->ro.command_tip = p->T;
+      p->ro.direction = p->d;
+    }
 }
 
 std::vector<Vec3> NeedleTool::nodes(int i) const {

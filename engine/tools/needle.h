@@ -161,6 +161,8 @@ struct CoreReport {
   int tumour_particles = 0;
   double tumour_length = 0.0;           // length of the core occupied by tumour [m]
   double notch_length = 0.0;            // [m]
+  Vec3 notch_centre = Vec3::Zero();     // where the notch's centre was when the core was taken [m]
+  Vec3 direction = -Vec3::UnitZ();      // the needle's direction then
 };
 
 class NeedleTool : public Tool {
@@ -184,7 +186,13 @@ class NeedleTool : public Tool {
   void readout(ToolReadout& r, const Model& m, const State& s) const override;
   int64_t events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out, size_t max_size) const override;
   // The probe whose template and guide SelectHole aims along (build_scene attaches it).
-  void attach_probe(const class ProbeTool* probe) { probe_ = probe; }
+  // A needle in the guide (NeedleSpec::guide) follows this probe's guide from now on.
+  void attach_probe(const class ProbeTool* probe);
+  bool guided(int i) const;                // rides in the probe's biopsy guide
+  // The urethra's centre line at rest [m], carried by the gland's nearest particle, and its radius
+  // [m]: a tip that comes within the radius gives an Urethra event (needle_structures.cpp). Before
+  // the first step (build_scene sets it from the anatomy's urethra.csv).
+  void set_urethra(const std::vector<Vec3>& centre_line, double radius);
   int active() const { return active_; }   // the selected needle (SelectNeedle), 0 at start
   double hub_roll(int i) const;            // NeedleRotate [rad]
 
@@ -203,7 +211,8 @@ class NeedleTool : public Tool {
 
   const NeedleEventRing& events() const { return events_; }
   std::vector<SeedReport> seeds() const;
-  CoreReport core(int i) const;
+  CoreReport core(int i) const;             // the last core (taken or not)
+  std::vector<CoreReport> cores(int i) const;  // every core taken, oldest first (a needle in the guide takes several)
   // Nodes of needle i at the current pose [m] (rendering, tests).
   std::vector<Vec3> nodes(int i) const;
   // Particles in the friction zone of node j of needle i (tests, visualisation).
@@ -228,6 +237,12 @@ class NeedleTool : public Tool {
   std::vector<std::string> warnings_;
   int active_ = 0;
   const ProbeTool* probe_ = nullptr;
+  // urethra centre line: rest points, the particle carrying each, scratch of the current line
+  std::vector<Vec3> urethra_rest_;
+  std::vector<int> urethra_carrier_;
+  std::vector<Vec3> urethra_now_;
+  double urethra_radius_ = 0.0;
+  void check_urethra(const Model& m, const State& s);
 };
 
 // Builds the tool for the `needles:` section of a scenario (nullptr when it has no needle).

@@ -18,7 +18,8 @@ enum class NeedleEventKind : uint8_t {
   Seed,         // seed deposited (value = seed index; component = -1 when no tissue held it)
   Core,         // biopsy core taken (value = particles in the notch; details in NeedleTool::core)
   BoneHit,      // tip stopped by rigid bone (component, position)
-  ForceClamped  // coupling force or speed exceeded the needle's limit and was clamped
+  ForceClamped, // coupling force or speed exceeded the needle's limit and was clamped
+  Urethra       // tip came within the urethra's radius of its centre line (value: distance [m])
 };
 const char* needle_event_name(NeedleEventKind k);
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "engine/tools/needle.h"
+#include "engine/tools/probe_geometry.h"
 
 namespace ps {
 
@@ -33,8 +34,11 @@ struct CoreState {
   int tumour_particles = 0;
   double tumour_length = 0.0;      // [m]
   int overflow = 0;                // particles beyond capacity (counted, not listed)
+  Vec3 tip = Vec3::Zero();         // needle tip and direction when the core was taken [m]
+  Vec3 direction = -Vec3::UnitZ();
 };
 inline constexpr int kCoreCapacity = 2048;
+inline constexpr int kMaxGuideCores = 24;   // cores one needle in the guide keeps (a 12-core biopsy + repeats)
 
 struct NeedleTool::Needle {
   NeedleSpec spec;
@@ -100,6 +104,7 @@ struct NeedleTool::Needle {
   // wall and cut and rub the tissue beyond it, dragging the wall ahead of the tip); afterwards
   // only the part of the shaft beyond the hole does, and the wall rubs it only at the hole.
   int lumen = -1;                        // sheet component, -1: none
+  bool near_urethra = false;             // tip within the urethra's radius (Urethra event given)
   bool in_lumen = false;                 // the tip is inside it
   double exit_a = -1e300;                // the hole's position along d relative to the tip (< 0) [m]
   Vec3 exit_point = Vec3::Zero();        // where the axis crosses the wall at the hole [m]
@@ -122,6 +127,17 @@ struct NeedleTool::Needle {
   bool bone_touch = false;
   bool clamping = false;
   int phase_blocked = 0;                 // substeps left flagged as blocked
+  // in the probe's biopsy guide (spec.guide, needle_guide.cpp): the guide's path this substep and
+  // the previous one, the commanded depth beyond its exit (the gun's stroke aside) at cmd_t0, and
+  // the cores taken before the last re-arming
+  bool guided = false;
+  NeedlePath guide_now, guide_prev;
+  double h_sub = 0.0;                    // the substep [s] (guide velocity)
+  double cmd_depth = 0.0;                // [m]
+  double plan_reach = 0.0;               // plan list: particles within this of the planned line [m]
+  std::vector<std::pair<double, int>> plan_scratch;  // capacity n
+  std::vector<CoreState> cores_done;     // [kMaxGuideCores], the first cores_done_n in use
+  int cores_done_n = 0;
   // read-out
   NeedleReadout ro;
   double tick_sum = 0.0;
@@ -185,6 +201,15 @@ void move_needle(NeedleTool::Needle& nd, const Model& m, State& s, const Vec3& f
 // = c_full * clamp(v_cut' / v_ramp, 0, 1) with the gate's filtered speed v_cut' = (1 - a) v_cut
 // + a u: the root of u + beta C(u) = u0, unique as C does not decrease with u
 double implicit_cutting_force(double c_full, double u0, double beta, double v_cut, double a, double v_ramp);
+// needle_guide.cpp: a needle in the probe's guide. Before the zones of a substep: the guide at the
+// probe's pose now, and the planned-line list rebuilt around it once it has moved by more than a
+// quarter of plan_margin. After the step: a fired needle withdrawn into the guide with its core
+// taken is re-armed (its core kept). Back in the lumen: it has entered nothing and touched nothing.
+void follow_guide(NeedleTool::Needle& nd, const Model& m, const State& s, const NeedlePath& guide);
+void rearm_in_guide(NeedleTool::Needle& nd, double t);
+void reset_contact_in_lumen(NeedleTool::Needle& nd, const MembraneFaces& mf);
+// guided needle: commanded tip depth beyond the guide's exit at time t, the gun's stroke included [m]
+double guide_depth(const NeedleTool::Needle& nd, double t);
 // seeds.cpp / biopsy.cpp (after the step)
 void update_seeds(NeedleTool::Needle& nd, const Model& m, const State& s, NeedleEventRing& events);
 double gun_stroke(const NeedleTool::Needle& nd, double t);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "engine/anatomy/zones.h"
 #include "engine/tools/needle_internal.h"
 #include "engine/tools/probe.h"
 #include "engine/util/error.h"
@@ -75,6 +76,7 @@ bool NeedleTool::accepts(CommandKind k) const {
     case CommandKind::DepositSeed:
     case CommandKind::SelectNeedle:
     case CommandKind::SelectHole:
+    case CommandKind::NeedleDepth:
       return true;
     default:
       return false;
@@ -101,6 +103,13 @@ bool NeedleTool::apply(const Command& c, const Model& m, const State& s, Command
         why.set("needle aim needs a finite tip, speed and a non-zero direction");
         return false;
       }
+      if (nd.guided) {  // the guide sets the direction: the tip's depth along it is what counts
+        nd.interactive = true;
+        nd.cmd_depth = (tip - nd.guide_now.entry).dot(nd.guide_now.direction) - gun_stroke(nd, now);
+        nd.cmd_speed = c.value;
+        nd.cmd_t0 = now;
+        return true;
+      }
       nd.interactive = true;
       nd.cmd_T = tip;
       nd.cmd_d = dir.normalized();
@@ -109,10 +118,42 @@ bool NeedleTool::apply(const Command& c, const Model& m, const State& s, Command
       nd.cmd_t0 = now;
       return true;
     }
+    case CommandKind::NeedleDepth: {
+      if (!std::isfinite(c.insertion) || !std::isfinite(c.value)) {
+        why.set("needle depth and speed must be finite");
+        return false;
+      }
+      if (c.insertion > nd.spec.length) {
+        std::snprintf(msg, sizeof msg, "depth %.1f mm is beyond the needle's length %.1f mm", c.insertion * 1e3,
+                      nd.spec.length * 1e3);
+        why.set(msg);
+        return false;
+      }
+      if (nd.guided) {
+        nd.interactive = true;
+        nd.cmd_depth = c.insertion - gun_stroke(nd, now);
+      } else {
+        const Vec3 d = nd.spec.direction.normalized();
+        nd.interactive = true;
+        nd.cmd_T = nd.spec.start + (c.insertion - gun_stroke(nd, now)) * d;
+        nd.cmd_d = d;
+        nd.cmd_V = Vec3::Zero();
+      }
+      nd.cmd_speed = c.value;
+      nd.cmd_t0 = now;
+      return true;
+    }
     case CommandKind::NeedleAdvance: {
       if (!std::isfinite(c.value)) {
         why.set("needle advance speed is not finite");
         return false;
+      }
+      if (nd.guided) {
+        nd.cmd_depth = guide_depth(nd, now) - gun_stroke(nd, now);
+        nd.interactive = true;
+        nd.cmd_speed = c.value;
+        nd.cmd_t0 = now;
+        return true;
       }
       if (!nd.interactive) {  // take over from the script where it is now
         Vec3 tip, dir, vel;
@@ -136,7 +177,12 @@ bool NeedleTool::apply(const Command& c, const Model& m, const State& s, Command
       nd.hub_roll = c.value;
       return true;
     case CommandKind::NeedleRelease:
-      nd.interactive = false;
+      if (nd.guided && nd.spec.script.empty()) {  // no script to go back to: held where it is in the guide
+        nd.cmd_depth = guide_depth(nd, now) - gun_stroke(nd, now);
+        nd.cmd_t0 = now;
+      } else {
+        nd.interactive = false;
+      }
       nd.cmd_speed = 0.0;
       return true;
     case CommandKind::FireGun:
@@ -147,6 +193,10 @@ bool NeedleTool::apply(const Command& c, const Model& m, const State& s, Command
       }
       if (!std::isnan(nd.fire_time) && now < nd.fire_time + nd.spec.gun->duration + nd.spec.gun->settle) {
         why.set("the biopsy gun is already firing");
+        return false;
+      }
+      if (nd.guided && !std::isnan(nd.fire_time)) {
+        why.set("the biopsy gun has fired: withdraw the needle into the guide to re-arm it");
         return false;
       }
       nd.fire_time = now;
@@ -169,6 +219,10 @@ bool NeedleTool::apply(const Command& c, const Model& m, const State& s, Command
     case CommandKind::SelectHole: {
       if (!probe_) {
         why.set("no probe in the scene: no template to select a hole of");
+        return false;
+      }
+      if (nd.guided) {
+        why.set("the needle rides in the probe's biopsy guide, not in the template");
         return false;
       }
       const ProbeSpec& ps = probe_->spec();
@@ -294,6 +348,37 @@ void NeedleTool::serialize(StateIO& io) {
   io.pod(coupling_stats_.bound_max);
   io.pod(coupling_stats_.softened_substeps);
   io.strings(warnings_);
+  if (!urethra_rest_.empty())  // scenes without a urethra line keep their state's bytes
+    for (auto& p : needles_) io.pod(p->near_urethra);
+  for (auto& p : needles_) {  // a needle in the guide (free needles keep their state's bytes)
+    Needle& nd = *p;
+    if (!nd.guided) continue;
+    io.vec(nd.guide_now.entry);
+    io.vec(nd.guide_now.direction);
+    io.vec(nd.guide_prev.entry);
+    io.vec(nd.guide_prev.direction);
+    io.pod(nd.cmd_depth);
+    io.vec(nd.spec.start);
+    io.vec(nd.spec.direction);
+    io.array(nd.plan_t, true);
+    io.array(nd.plan_idx, true);
+    io.vec(nd.core.tip);
+    io.vec(nd.core.direction);
+    io.pod(nd.cores_done_n);
+    for (int k = 0; k < nd.cores_done_n; ++k) {
+      CoreState& c = nd.cores_done[k];
+      io.pod(c.taken);
+      io.pod(c.time);
+      io.array(c.particles, true);
+      io.array(c.per_component);
+      io.array(c.per_tag);
+      io.pod(c.tumour_particles);
+      io.pod(c.tumour_length);
+      io.pod(c.overflow);
+      io.vec(c.tip);
+      io.vec(c.direction);
+    }
+  }
 }
 
 void NeedleTool::readout(ToolReadout& r, const Model&, const State&) const {
@@ -310,6 +395,36 @@ void NeedleTool::readout(ToolReadout& r, const Model&, const State&) const {
   r.value = nd.ro.plan_depth;
   r.active = true;
 }
+
+namespace {
+
+// The 12-core site of a core ("right mid medial", the majority tag of each group among its notch's
+// prostate particles, as core_site() names it) and whether it held lesion, into out (no
+// allocation: the physics thread formats the events it publishes). "" without zone tags.
+void core_site_text(const Model& m, const CoreState& core, char* out, size_t n) {
+  out[0] = '\0';
+  const auto& names = anatomy::kZoneTagNames;
+  int count[names.size()] = {};
+  bool any = false;
+  for (size_t k = 0; k < names.size(); ++k) {
+    for (size_t t = 0; t < m.tag_names.size() && t < core.per_tag.size(); ++t)
+      if (m.tag_names[t] == names[k]) count[k] = core.per_tag[t];
+    any |= count[k] > 0;
+  }
+  auto pick = [&](int lo, int hi) {
+    int best = lo;
+    for (int i = lo + 1; i < hi; ++i)
+      if (count[i] > count[best]) best = i;
+    return best;
+  };
+  if (!any || count[pick(0, 3)] == 0) {
+    std::snprintf(out, n, "outside the gland%s", core.tumour_particles > 0 ? ", lesion" : "");
+    return;
+  }
+  std::snprintf(out, n, "%s %s %s%s", names[pick(3, 5)], names[pick(0, 3)], names[pick(5, 7)], core.tumour_particles > 0 ? ", lesion" : "");
+}
+
+}  // namespace
 
 int64_t NeedleTool::events_since(int64_t cursor, int tool_index, std::vector<SnapshotEvent>& out, size_t max_size) const {
   const int64_t total = events_.total();
@@ -333,6 +448,19 @@ int64_t NeedleTool::events_since(int64_t cursor, int tool_index, std::vector<Sna
     const double shown = std::abs(e.force) < 0.005 ? 0.0 : e.force;  // [N] a first contact's ~0 N, not "-0.00 N"
     std::snprintf(se.text.data(), se.text.size(), "%s: %s%s%s at %.1f mm, %.2f N", who, needle_event_name(e.kind), *comp ? " " : "",
                   comp, e.depth * 1e3, shown);
+    // a core of a needle in the guide names its site: "... [right mid medial, lesion]" (the live 12-core map)
+    if (e.kind == NeedleEventKind::Core && e.needle >= 0 && e.needle < count() && needles_[e.needle]->guided) {
+      const Needle& nd = *needles_[e.needle];
+      const CoreState* core = nd.core.taken && nd.core.time == e.time ? &nd.core : nullptr;
+      for (int k = 0; k < nd.cores_done_n && !core; ++k)
+        if (nd.cores_done[k].time == e.time) core = &nd.cores_done[k];
+      if (core) {
+        char site[64];
+        core_site_text(*model_, *core, site, sizeof site);
+        const size_t used = std::strlen(se.text.data());
+        std::snprintf(se.text.data() + used, se.text.size() - used, " [%s]", site);
+      }
+    }
     out.push_back(se);
   }
   return total;

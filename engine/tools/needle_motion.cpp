@@ -31,6 +31,28 @@ void script_depth(const NeedleSpec& s, double t, double& depth, double& rate) {
 
 }  // namespace
 
+double guide_depth(const NeedleTool::Needle& nd, double t) {
+  if (!nd.interactive) {  // on its scenario script until a live command takes it over
+    double depth = 0.0, rate = 0.0;
+    script_depth(nd.spec, t, depth, rate);
+    return depth + gun_stroke(nd, t);
+  }
+  return nd.cmd_depth + nd.cmd_speed * (t - nd.cmd_t0) + gun_stroke(nd, t);
+}
+
+namespace {
+
+double guide_depth_rate(const NeedleTool::Needle& nd, double t) {
+  if (!nd.interactive) {
+    double depth = 0.0, rate = 0.0;
+    script_depth(nd.spec, t, depth, rate);
+    return rate + gun_stroke_rate(nd, t);
+  }
+  return nd.cmd_speed + gun_stroke_rate(nd, t);
+}
+
+}  // namespace
+
 double implicit_cutting_force(double c_full, double u0, double beta, double v_cut, double a, double v_ramp) {
   if (c_full <= 0.0 || a <= 0.0) return 0.0;
   const double held = (1.0 - a) * v_cut;  // the filtered speed's part that does not depend on u
@@ -45,6 +67,18 @@ double implicit_cutting_force(double c_full, double u0, double beta, double v_cu
 }
 
 void needle_command(const NeedleTool::Needle& nd, double t, Vec3& tip, Vec3& dir, Vec3& vel) {
+  if (nd.guided) {
+    // the guide carries the needle: its entry and direction at the probe's pose now, and their
+    // motion since the previous substep at the same depth (the probe turning or pushing it)
+    const NeedlePath& g = nd.guide_now;
+    const NeedlePath& g0 = nd.guide_prev;
+    const double depth = guide_depth(nd, t);
+    dir = g.direction;
+    tip = g.entry + depth * dir;
+    vel = guide_depth_rate(nd, t) * dir;
+    if (nd.h_sub > 0.0) vel += ((g.entry + depth * g.direction) - (g0.entry + depth * g0.direction)) / nd.h_sub;
+    return;
+  }
   if (nd.interactive) {
     // the device holds the gun body; a fired gun extends the needle by the stroke
     // a live advance/retract moves the commanded tip along the commanded direction

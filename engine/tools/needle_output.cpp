@@ -110,13 +110,16 @@ std::string cores_csv(const NeedleTool& tool) {
   // repeats the core's values and its clinical site (the 12-core zone name, biopsy.h)
   for (int i = 0; i < tool.count(); ++i) {
     if (!tool.spec(i).gun) continue;
-    const CoreReport c = tool.core(i);
-    const std::string head = tool.spec(i).name + "," + (c.taken ? "1" : "0") + "," + g(c.time) + ",";
-    const std::string tail = "," + std::to_string(c.tumour_particles) + "," + mm(c.tumour_length) + "," + mm(c.notch_length) +
-                             "," + csv_field(core_site(c).label) + "\n";
-    if (c.per_component.empty()) out += head + ",0" + tail;
-    for (const auto& [name, count] : c.per_component) out += head + name + "," + std::to_string(count) + tail;
-    for (const auto& [name, count] : c.per_tag) out += head + "tag:" + name + "," + std::to_string(count) + tail;
+    std::vector<CoreReport> list = tool.cores(i);  // every core (a needle in the guide takes several)
+    if (list.empty()) list.push_back(tool.core(i));
+    for (const CoreReport& c : list) {
+      const std::string head = tool.spec(i).name + "," + (c.taken ? "1" : "0") + "," + g(c.time) + ",";
+      const std::string tail = "," + std::to_string(c.tumour_particles) + "," + mm(c.tumour_length) + "," + mm(c.notch_length) +
+                               "," + csv_field(core_site(c).label) + "\n";
+      if (c.per_component.empty()) out += head + ",0" + tail;
+      for (const auto& [name, count] : c.per_component) out += head + name + "," + std::to_string(count) + tail;
+      for (const auto& [name, count] : c.per_tag) out += head + "tag:" + name + "," + std::to_string(count) + tail;
+    }
   }
   return out;
 }

@@ -2,6 +2,12 @@
 #include <cmath>
 #include "engine/tools/needle_spec_yaml.h"
 
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "engine/util/error.h"
+
 namespace ps {
 
 namespace {
@@ -15,7 +21,7 @@ NeedleSpec parse_needle(const YamlReader& r, const YAML::Node& v, int index) {
                "coupling_damping_n_s_m", "cutting_radius_mm", "friction_radius_mm",
                "press_stiffness_n_mm", "stick_stiffness_n_mm", "static_ratio", "cut_velocity_mm_s", "max_force_n",
                "max_speed_m_s", "plan_margin_mm", "start_mm", "direction", "script", "seeds_mm", "gun", "tumour",
-               "target_mm", "planned_site"});
+               "target_mm", "planned_site", "guide", "planned_sites"});
   NeedleSpec s;
   s.file = r.file();
   s.line = YamlReader::line_of(v);
@@ -50,8 +56,16 @@ NeedleSpec parse_needle(const YamlReader& r, const YAML::Node& v, int index) {
   pos("max_force_n", 1.0, s.max_force);
   pos("max_speed_m_s", 1.0, s.max_speed);
   pos("plan_margin_mm", kMm, s.plan_margin);
-  s.start = r.vec3(r.require(v, k, "start_mm"), k + ".start_mm", kMm);
-  s.direction = r.unit_vec3(r.require(v, k, "direction"), k + ".direction");
+  if (v["guide"]) {
+    s.guide = r.string(v["guide"], k + ".guide");
+    if (s.guide != "biopsy") r.fail(v["guide"], k + ".guide", "unknown guide '" + s.guide + "' (biopsy: the probe's biopsy guide)");
+    // in the guide the path is the probe's: start and direction follow its pose (build_scene)
+    if (v["start_mm"]) r.fail(v["start_mm"], k + ".start_mm", "a needle in the probe's guide takes its start from the probe");
+    if (v["direction"]) r.fail(v["direction"], k + ".direction", "a needle in the probe's guide takes its direction from the probe");
+  } else {
+    s.start = r.vec3(r.require(v, k, "start_mm"), k + ".start_mm", kMm);
+    s.direction = r.unit_vec3(r.require(v, k, "direction"), k + ".direction");
+  }
   if (const YAML::Node sc = v["script"]) {
     if (!sc.IsSequence()) r.fail(sc, k + ".script", "expected a list of [t_s, depth_mm]");
     for (size_t i = 0; i < sc.size(); ++i) {
@@ -89,14 +103,85 @@ NeedleSpec parse_needle(const YamlReader& r, const YAML::Node& v, int index) {
   }
   if (v["target_mm"]) s.target = r.vec3(v["target_mm"], k + ".target_mm", kMm);
   if (v["planned_site"]) s.planned_site = r.string(v["planned_site"], k + ".planned_site");
+  if (const YAML::Node ps = v["planned_sites"]) {
+    const std::string kp = k + ".planned_sites";
+    if (ps.IsScalar()) {
+      const std::string scheme = r.string(ps, kp);
+      if (scheme != "12-core") r.fail(ps, kp, "unknown scheme '" + scheme + "' (12-core, or a list of sites)");
+      s.planned_sites = twelve_core_sites();
+    } else if (ps.IsSequence()) {
+      for (size_t i = 0; i < ps.size(); ++i) s.planned_sites.push_back(r.string(ps[i], kp + "[" + std::to_string(i) + "]"));
+    } else {
+      r.fail(ps, kp, "expected 12-core or a list of sites");
+    }
+    if (!s.gun) r.fail(ps, kp, "planned core sites need a biopsy gun");
+  }
   validate_needle_spec(s);
   return s;
 }
 
 }  // namespace
 
+namespace {
+
+// The needles of a seed implant plan (`prostatesim plan`, engine/dosimetry/plan.h) as scripted
+// brachytherapy needles, one after another: each starts 4 mm in front of its template hole, goes
+// in at kPlanSpeed to its deepest seed, rests 0.2 s, and is drawn back out at kPlanSpeed while its
+// seeds drop at their planned depths (loose seeds, the stylet held).
+constexpr double kPlanSpeed = 0.025;  // [m/s]
+constexpr double kPlanStandoff = 0.004;  // [m]
+
+void plan_needles(const std::string& scenario_file, const YamlReader& sr, const YAML::Node& at, NeedleSetSpec& set) {
+  const std::string rel = sr.string(at, "needles.plan");
+  const std::filesystem::path path = std::filesystem::path(scenario_file).parent_path() / rel;
+  std::ifstream f(path, std::ios::binary);
+  if (!f) sr.fail(at, "needles.plan", "cannot read the plan file " + path.string());
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  const YamlReader r(path.string());
+  YAML::Node root;
+  try {
+    root = YAML::Load(ss.str());
+  } catch (const YAML::Exception& e) {
+    throw InputError(path.string(), static_cast<int>(e.mark.line) + 1, "plan", std::string("not valid YAML: ") + e.msg);
+  }
+  const YAML::Node plan = r.require(root, "", "plan");
+  const YAML::Node list = r.require(plan, "plan", "needles");
+  if (!list.IsSequence() || list.size() == 0) r.fail(list, "plan.needles", "expected a non-empty list of needles");
+  double t = 0.3;
+  for (size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node v = list[i];
+    const std::string k = "plan.needles[" + std::to_string(i) + "]";
+    NeedleSpec s;
+    s.file = path.string();
+    s.line = YamlReader::line_of(v);
+    s.key = k;
+    apply_needle_preset("brachy_18g", s);
+    s.preset = "brachy_18g";
+    s.name = r.string(r.require(v, k, "hole"), k + ".hole");
+    s.direction = r.unit_vec3(r.require(v, k, "direction"), k + ".direction");
+    s.start = r.vec3(r.require(v, k, "entry_mm"), k + ".entry_mm", kMm) - kPlanStandoff * s.direction;
+    const double depth = r.positive(r.require(v, k, "depth_mm"), k + ".depth_mm") * kMm + kPlanStandoff;
+    const YAML::Node sd = r.require(v, k, "seeds_mm");
+    if (!sd.IsSequence() || sd.size() == 0) r.fail(sd, k + ".seeds_mm", "expected a non-empty list of depths [mm]");
+    for (size_t j = 0; j < sd.size(); ++j) {
+      const double d = r.positive(sd[j], k + ".seeds_mm[" + std::to_string(j) + "]") * kMm + kPlanStandoff;
+      if (d > depth + 1e-9) r.fail(sd[j], k + ".seeds_mm[" + std::to_string(j) + "]", "deeper than the needle's depth_mm");
+      s.seed_depths.push_back(d);
+    }
+    const double travel = depth / kPlanSpeed;
+    s.script = {{0.0, 0.0}, {t, 0.0}, {t + travel, depth}, {t + travel + 0.2, depth}, {t + 2 * travel + 0.2, 0.0}};
+    t += 2 * travel + 0.2 + 0.3;
+    for (const NeedleSpec& o : set.needles)
+      if (o.name == s.name) r.fail(v, k + ".hole", "a second needle in hole '" + s.name + "'");
+    set.needles.push_back(std::move(s));
+  }
+}
+
+}  // namespace
+
 NeedleSetSpec parse_needles_yaml(const YamlReader& r, const YAML::Node& node) {
-  r.only_keys(node, "needles", {"puncture_n", "instruments", "event_capacity"});
+  r.only_keys(node, "needles", {"puncture_n", "instruments", "event_capacity", "plan"});
   NeedleSetSpec set;
   set.file = r.file();
   set.line = YamlReader::line_of(node);
@@ -112,13 +197,17 @@ NeedleSetSpec parse_needles_yaml(const YamlReader& r, const YAML::Node& node) {
     if (set.event_capacity < 16 || set.event_capacity > 1000000)
       r.fail(node["event_capacity"], "needles.event_capacity", "must be in 16..1000000");
   }
+  if (node["plan"]) {
+    plan_needles(r.file(), r, node["plan"], set);
+    if (!node["instruments"]) return set;
+  }
   const YAML::Node list = r.require(node, "needles", "instruments");
   if (!list.IsSequence() || list.size() == 0) r.fail(list, "needles.instruments", "expected a non-empty list of needles");
   for (size_t i = 0; i < list.size(); ++i) {
     set.needles.push_back(parse_needle(r, list[i], static_cast<int>(i)));
-    for (size_t j = 0; j < i; ++j)
-      if (set.needles[j].name == set.needles[i].name)
-        r.fail(list[i], "needles.instruments[" + std::to_string(i) + "].name", "duplicate needle name '" + set.needles[i].name + "'");
+    for (size_t j = 0; j + 1 < set.needles.size(); ++j)
+      if (set.needles[j].name == set.needles.back().name)
+        r.fail(list[i], "needles.instruments[" + std::to_string(i) + "].name", "duplicate needle name '" + set.needles.back().name + "'");
   }
   return set;
 }

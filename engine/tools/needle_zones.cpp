@@ -188,6 +188,7 @@ void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s,
       nd.exit_point = T + lumen_behind * d;
     } else if (ahead_torn) {
       nd.in_lumen = true;
+      if (nd.guided) reset_contact_in_lumen(nd, mf);  // back in the guide: the next pass starts afresh
     }
   }
 

@@ -1,6 +1,25 @@
 #include "engine/tools/probe_guide.h"
 
+#include "engine/spec/scenario_spec.h"
+#include "engine/util/error.h"
+
 namespace ps {
+
+void place_guided_needles(ScenarioSpec& spec) {
+  for (NeedleSpec& n : spec.needles.needles) {
+    if (n.guide.empty()) continue;
+    if (!spec.probe)
+      throw InputError(n.file, n.line, n.key + ".guide",
+                       "needle '" + n.name + "' rides in the probe's biopsy guide, but the scene has no probe");
+    if (!spec.probe->has_guide)
+      throw InputError(n.file, n.line, n.key + ".guide",
+                       "needle '" + n.name + "' rides in the probe's biopsy guide, but the probe has no needle_guide");
+    const ProbeSpec& ps = *spec.probe;
+    const NeedlePath g = biopsy_guide_path(ps, probe_frame(ps, rectal_frame(ps), ps.pose));
+    n.start = g.entry;
+    n.direction = g.direction;
+  }
+}
 
 void hold_needle_on_path(NeedleTool& needles, int i, const NeedlePath& path, double depth, double speed) {
   needles.command(i, path.entry + depth * path.direction, path.direction, speed * path.direction);

@@ -12,6 +12,13 @@
 
 namespace ps {
 
+struct ScenarioSpec;
+
+// A needle in the probe's biopsy guide (NeedleSpec::guide) starts on the guide at the probe's
+// start pose: its start and direction are set from the scenario's probe. Without a probe, or a
+// probe without a needle_guide, InputError naming the needle's `guide` line.
+void place_guided_needles(ScenarioSpec& spec);
+
 // Point `depth` [m] along a path, and the needle command that holds needle `i` there with
 // velocity speed [m/s] along the path.
 void hold_needle_on_path(NeedleTool& needles, int i, const NeedlePath& path, double depth, double speed = 0.0);

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "engine/model/organ.h"
 #include "engine/util/error.h"
 
 namespace ps::us {
@@ -67,6 +68,19 @@ float prostate_particle_echo(const Model& m, int p) {
 UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt) {
   UltrasoundAnatomy a;
   a.rest = m.rest_pos;
+  for (size_t t = 0; t < m.tag_names.size() && !m.particle_tags.empty(); ++t) {
+    if (!is_lesion_name(m.tag_names[t])) continue;
+    UsLesion l;
+    l.name = m.tag_names[t];
+    Vec3 c = Vec3::Zero();
+    for (int p = 0; p < m.particle_count(); ++p)
+      if (m.particle_tags[p] >> t & 1u) { l.particles.push_back(p); c += m.rest_pos[p]; }
+    if (l.particles.empty()) continue;
+    c /= static_cast<double>(l.particles.size());
+    for (int p : l.particles)
+      l.radius = std::max(l.radius, (m.rest_pos[p] - c).norm() + 0.5 * m.components[m.component_of[p]].spacing);
+    a.lesions.push_back(std::move(l));
+  }
   a.component_index.assign(m.components.size(), -1);
   std::vector<double> volume;
   for (size_t c = 0; c < m.components.size() && a.components.size() < 32; ++c) {

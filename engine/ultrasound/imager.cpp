@@ -993,6 +993,25 @@ void PlaneImager::overlays(const UltrasoundScene& sc, const PlaneFrame& f) {
       dot(col, row + 1, 0, 210);
     }
   }
+  // fused MRI contours: where each lesion's sphere (rest extent, current centroid) cuts the plane,
+  // a dashed circle
+  if (!set_.lesion_contours || !sc.x) return;
+  for (const UsLesion& l : an_.lesions) {
+    Vec3 c = Vec3::Zero();
+    for (int p : l.particles) c += Vec3(sc.x[3 * p], sc.x[3 * p + 1], sc.x[3 * p + 2]);
+    c /= static_cast<double>(l.particles.size());
+    const Vec3 d0 = c - f.origin;
+    const double h = d0.dot(f.normal);
+    if (std::abs(h) >= l.radius) continue;
+    const double r = std::sqrt(l.radius * l.radius - h * h);
+    const double col0 = (d0.dot(f.right) - s0_) / px_, row0 = (t0_ - d0.dot(f.up)) / px_;
+    const int n = std::max(24, static_cast<int>(2.0 * 3.141592653589793 * r / px_));
+    for (int k = 0; k < n; ++k) {
+      if ((k * 12 / n) % 2) continue;  // 6 dashes
+      const double a = 2.0 * 3.141592653589793 * k / n;
+      dot(col0 + r * std::cos(a) / px_, row0 - r * std::sin(a) / px_, 0, 255);
+    }
+  }
 }
 
 }  // namespace ps::us

@@ -62,6 +62,14 @@ struct RestVolume {
 // (acoustic shadow) like bone.
 constexpr float kCalcificationEcho = 4.0f;
 
+// A lesion (a tag named lesion* / tumo*, engine/model/organ.h) as MRI-TRUS fusion shows it: a
+// sphere of its rest extent around the current centroid of its particles.
+struct UsLesion {
+  std::string name;
+  std::vector<int> particles;
+  double radius = 0.0;                   // [m] rest extent: farthest particle + half its spacing
+};
+
 struct UltrasoundAnatomy {
   std::vector<UsComponent> components;   // imaged components, in Model order (at most 32)
   std::vector<int> component_index;      // [model components] index into `components`, -1 if none
@@ -71,6 +79,7 @@ struct UltrasoundAnatomy {
   std::vector<Vec3> urethra;             // prostatic urethra centre line, rest space [m] (may be empty)
   double urethra_radius = 1.2e-3;        // hypoechoic (collapsed) lumen radius [m]
   std::vector<std::pair<Vec3, double>> calcifications;  // rest-space centre and radius [m] (in the echo volume)
+  std::vector<UsLesion> lesions;         // fused MRI contours (overlays only, not echo)
 };
 
 // A thin rigid object the beam sees (needle shaft, seed): a segment with a radius.

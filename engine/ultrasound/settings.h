@@ -36,6 +36,7 @@ struct UltrasoundSettings {
   // --- output ---
   int width = 512, height = 512;       // pixels per plane
   bool overlays = true;                // biopsy guide line (sagittal) and template grid (transverse)
+  bool lesion_contours = true;         // lesions as a fused MRI contour at their current position
 };
 
 // Defaults with the convex radius of the probe description.
