@@ -71,7 +71,8 @@ void add_make_anatomy_command(CLI::App& app, Runner& run) {
         const Vec3 e = (hi - lo) * 1e3;
         std::printf("%-11s %9.2f %7zu %8.1f x %5.1f x %5.1f\n", name, signed_volume(*m) * 1e6, m->faces.size(), e.x(), e.y(), e.z());
       }
-      std::printf("urethra: %zu points; perineal skin plane z = %.1f mm\n", a.urethra.size(), a.perineum_z * 1e3);
+      std::printf("urethra: %zu points; %zu calcifications; perineal skin plane z = %.1f mm\n", a.urethra.size(), a.calcifications.size(),
+                  a.perineum_z * 1e3);
       size_t total = 0;
       for (const auto& f : anatomy::anatomy_files(a)) total += f.contents.size();
       std::printf("wrote %zu files, %.1f KB\n", anatomy::anatomy_files(a).size(), total / 1024.0);

@@ -31,6 +31,7 @@ struct UltrasoundArgs {
   std::string views = "us_transverse,us_sagittal";
   double gain_db = 0.0, depth_mm = 60.0, frequency_mhz = 7.5, dynamic_range_db = 60.0;
   double fov_deg = 140.0, width_mm = 60.0, slice_mm = 1.5;
+  double bandwidth = 0.18, focus_mm = 30.0, f_number = 3.0, rx_aperture_mm = 10.0;
   double radius_mm = -1.0;         // convex radius: default the probe's radius
   double transverse_back_mm = 0.0, linear_front_mm = 0.0;
   int size = 512;
@@ -60,6 +61,10 @@ void add_ultrasound_command(CLI::App& app, Runner& run) {
   sub->add_option("--linear-front-mm", a->linear_front_mm, "front end of the linear array behind the tip centre [mm]")
       ->capture_default_str();
   sub->add_option("--slice-mm", a->slice_mm, "elevation slice thickness, FWHM [mm]")->capture_default_str();
+  sub->add_option("--bandwidth", a->bandwidth, "pulse-echo -6 dB fractional bandwidth (axial resolution)")->capture_default_str();
+  sub->add_option("--focus-mm", a->focus_mm, "transmit focal depth [mm]")->capture_default_str();
+  sub->add_option("--f-number", a->f_number, "transmit f-number")->capture_default_str();
+  sub->add_option("--rx-aperture-mm", a->rx_aperture_mm, "receive aperture [mm]")->capture_default_str();
   sub->add_option("--size", a->size, "image width and height [px]")->capture_default_str();
   sub->add_flag("--no-overlays", a->no_overlays, "no biopsy guide line or template grid");
   sub->add_option("--grid", a->grid, "template grid overlay: auto | on | off")->capture_default_str();
@@ -88,6 +93,10 @@ void add_ultrasound_command(CLI::App& app, Runner& run) {
       set.linear_width = a->width_mm * 1e-3;
       if (a->radius_mm > 0 || a->radius_mm == 0) set.convex_radius = a->radius_mm * 1e-3;
       set.slice_thickness = a->slice_mm * 1e-3;
+      set.bandwidth = a->bandwidth;
+      set.focus_depth = a->focus_mm * 1e-3;
+      set.f_number = a->f_number;
+      set.rx_aperture = a->rx_aperture_mm * 1e-3;
       set.transverse_back = a->transverse_back_mm * 1e-3;
       set.linear_front = a->linear_front_mm * 1e-3;
       set.width = set.height = a->size;

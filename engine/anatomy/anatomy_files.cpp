@@ -66,6 +66,12 @@ std::vector<AnatomyFile> anatomy_files(const Anatomy& a) {
   u += "\nx_mm,y_mm,z_mm\n";
   for (const Vec3& p : a.urethra) u += mm(p.x()) + "," + mm(p.y()) + "," + mm(p.z()) + "\n";
   files.push_back({"urethra.csv", u});
+  std::string c = "# ProstateSim default anatomy: prostatic calcifications (bright foci with a shadow on TRUS)\n# ";
+  c += kFrame;
+  c += "\nx_mm,y_mm,z_mm,radius_mm\n";
+  for (const Calcification& k : a.calcifications)
+    c += mm(k.centre.x()) + "," + mm(k.centre.y()) + "," + mm(k.centre.z()) + "," + mm(k.radius) + "\n";
+  files.push_back({"calcifications.csv", c});
 
   std::string l = "# ProstateSim default anatomy: named landmarks\n# ";
   l += kFrame;

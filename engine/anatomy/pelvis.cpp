@@ -116,6 +116,11 @@ Anatomy generate_anatomy(const AnatomyParams& P) {
   for (const Vec3& p : resample_polyline(guide, P.urethra_step))
     if (prostate_q.inside(p)) A.urethra.push_back(p);
 
+  // calcifications: on the surgical capsule, a fixed fraction of the way from the centre to the
+  // surface along each direction
+  for (const AnatomyParams::CalcificationSpec& c : P.calcifications)
+    A.calcifications.push_back({c.fraction * prostate_surface_point(Q, c.direction.normalized()), c.radius});
+
   // landmarks
   const Vec3 arch_top(0.0, B.y_top, B.z_top);
   A.landmarks = {

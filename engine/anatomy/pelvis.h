@@ -83,6 +83,26 @@ struct AnatomyParams {
   Vec3 fat_max = Vec3(60e-3, 56e-3, 124e-3);    // [m]
   double fat_edge = 12.0e-3;                     // edge length of the block mesh [m]
   double urethra_step = 1.0e-3;                  // urethra polyline sampling [m]
+  // Calcifications on the surgical capsule (present in most men of biopsy age), as directions
+  // from the prostate centre (scaled to the surface), the fraction of the way to the surface and
+  // the radius; empty: none.
+  struct CalcificationSpec {
+    Vec3 direction;
+    double fraction;
+    double radius;                               // [m]
+  };
+  std::vector<CalcificationSpec> calcifications = {
+      {Vec3(0.55, -0.45, 0.35), 0.62, 1.2e-3},
+      {Vec3(-0.5, -0.5, 0.2), 0.60, 1.0e-3},
+      {Vec3(-0.6, -0.35, -0.25), 0.58, 1.4e-3},
+  };
+};
+
+// Prostatic calcification (corpora amylacea): a small stone, usually along the surgical capsule
+// between the transition and peripheral zones; on TRUS a bright focus with an acoustic shadow.
+struct Calcification {
+  Vec3 centre = Vec3::Zero();        // [m]
+  double radius = 1.0e-3;            // [m]
 };
 
 struct Landmark {
@@ -94,6 +114,7 @@ struct Anatomy {
   TriMesh prostate, bladder, rectum, fat, pubic_arch;   // closed outward surfaces [m]
   std::vector<Vec3> urethra;         // prostatic urethra, bladder neck -> apex, inside the prostate [m]
   std::vector<Vec3> rectum_axis;     // centre line of the rectum tube, inferior -> superior [m]
+  std::vector<Calcification> calcifications;  // in the prostate, on the surgical capsule [m]
   double perineum_z = 0.0;           // perineal skin plane z = perineum_z, outward normal -z [m]
   std::vector<Landmark> landmarks;
 };

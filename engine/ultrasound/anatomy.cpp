@@ -107,6 +107,7 @@ UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt) {
 
   a.urethra = opt.urethra;
   a.urethra_radius = opt.urethra_radius;
+  a.calcifications = opt.calcifications;
   if (a.prostate >= 0) {
     // rest-space echo volume: Gaussian-weighted mean of the particles' echo (sigma = 0.3 h: close to
     // the nearest particle's value, with soft margins), so a lesion tagged on a few particles becomes
@@ -157,8 +158,19 @@ UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt) {
             double d = 1e9;
             for (size_t s = 0; s + 1 < a.urethra.size(); ++s) d = std::min(d, segment_distance(p, a.urethra[s], a.urethra[s + 1]));
             float& val = v.value[(static_cast<size_t>(k) * v.ny + j) * v.nx + i];
-            if (d < r) val = 0.08f;
-            else if (d < r + 1.0e-3) val = std::max(val, 1.6f);
+            if (d < r) val = 0.65f;
+            else if (d < r + 0.7e-3) val = std::max(val, 1.15f);
+          }
+    }
+    // calcifications: bright foci (kCalcificationEcho and above: they also stop the beam)
+    for (const auto& [c, rad] : opt.calcifications) {
+      const Vec3 q = (c - v.origin) / v.step;
+      const int reach = static_cast<int>(std::ceil(rad / v.step)) + 1;
+      for (int k = std::max(0, static_cast<int>(q.z()) - reach); k <= std::min(v.nz - 1, static_cast<int>(q.z()) + reach); ++k)
+        for (int j = std::max(0, static_cast<int>(q.y()) - reach); j <= std::min(v.ny - 1, static_cast<int>(q.y()) + reach); ++j)
+          for (int i = std::max(0, static_cast<int>(q.x()) - reach); i <= std::min(v.nx - 1, static_cast<int>(q.x()) + reach); ++i) {
+            const double d = (v.origin + Vec3(i, j, k) * v.step - c).norm();
+            if (d <= rad + 0.5 * v.step) v.value[(static_cast<size_t>(k) * v.ny + j) * v.nx + i] = 8.0f * kCalcificationEcho;
           }
     }
   }
@@ -182,6 +194,33 @@ std::vector<Vec3> read_urethra_csv(const std::string& path, double unit_scale, c
       throw InputError(path, ln, "urethra", "expected three finite numbers x,y,z");
     }
     out.push_back(Vec3(x, y, z) * unit_scale + translate);
+  }
+  return out;
+}
+
+std::vector<std::pair<Vec3, double>> read_calcifications_csv(const std::string& path, double unit_scale, const Vec3& translate) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, 0, "calcifications", "cannot open the file");
+  std::vector<std::pair<Vec3, double>> out;
+  std::string line;
+  int ln = 0;
+  bool header = true;
+  while (std::getline(in, line)) {
+    ++ln;
+    if (line.empty() || line[0] == '#') continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream ss(line);
+    double x, y, z, r;
+    if (!(ss >> x >> y >> z >> r) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(r)) {
+      if (header) {  // header row (x_mm,y_mm,z_mm,radius_mm)
+        header = false;
+        continue;
+      }
+      throw InputError(path, ln, "calcifications", "expected four finite numbers x,y,z,radius");
+    }
+    header = false;
+    if (!(r > 0.0) || r * unit_scale > 10e-3) throw InputError(path, ln, "calcifications", "radius must be in (0, 10] mm");
+    out.emplace_back(Vec3(x, y, z) * unit_scale + translate, r * unit_scale);
   }
   return out;
 }

@@ -17,7 +17,11 @@ struct AnatomyOptions {
   // component name -> tissue, applied over the name/kind rule of tissue_for_component()
   std::vector<std::pair<std::string, Tissue>> tissue_overrides;
   std::vector<Vec3> urethra;       // prostatic urethra centre line in rest space [m] (optional)
-  double urethra_radius = 2.0e-3;  // [m]
+  // The urethra without a catheter is collapsed: a subtle hypoechoic line (lumen echo 0.5 of the
+  // peripheral zone, 1.2 mm radius) with a faintly brighter periurethral rim, not a black band.
+  double urethra_radius = 1.2e-3;  // [m]
+  // prostatic calcifications in rest space: centre [m] and radius [m] (optional, per case)
+  std::vector<std::pair<Vec3, double>> calcifications;
   double voxel = 1.0e-3;           // prostate echo volume voxel [m]
 };
 
@@ -36,5 +40,10 @@ UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt = {});
 // scaled by unit_scale [m per file unit] and translated by `translate` [m]. InputError
 // (file:line) on a malformed row.
 std::vector<Vec3> read_urethra_csv(const std::string& path, double unit_scale, const Vec3& translate);
+
+// Reads prostatic calcifications (assets/anatomy/calcifications.csv: `x_mm,y_mm,z_mm,radius_mm`
+// rows, '#' comments), scaled and translated like read_urethra_csv(). InputError (file:line) on a
+// malformed row or a radius outside (0, 10] mm.
+std::vector<std::pair<Vec3, double>> read_calcifications_csv(const std::string& path, double unit_scale, const Vec3& translate);
 
 }  // namespace ps::us

@@ -134,6 +134,9 @@ UltrasoundAnatomy anatomy_for_scenario(const ScenarioSpec& spec, const Model& mo
     // only for an untransformed mesh: the centre line is in the mesh file's own frame
     if (std::filesystem::exists(u) && m.rotate_deg.isZero() && m.scale.isOnes())
       opt.urethra = read_urethra_csv(u.string(), m.unit_scale, m.translate);
+    const std::filesystem::path k = std::filesystem::path(m.file).parent_path() / "calcifications.csv";
+    if (std::filesystem::exists(k) && m.rotate_deg.isZero() && m.scale.isOnes())
+      opt.calcifications = read_calcifications_csv(k.string(), m.unit_scale, m.translate);
   }
   return build_anatomy(model, opt);
 }

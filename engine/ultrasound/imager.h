@@ -14,15 +14,20 @@
 //     (per component, Wendland-like weights, radius 1.6 h) on a 2 mm grid; a pixel's rest
 //     point X = x - u(x). Speckle (speckle.h) and the prostate's echo volume (zones, lesion,
 //     urethra) are read at X, so they move and deform with the tissue and do not flicker.
-//  4. scattering: backscatter amplitude x complex speckle, plus coherent reflections: surfaces
-//     (specular ~ cos^4 of the angle of incidence + a diffuse part; the capsule is a bright line),
-//     needles and seeds as rods weighted by the elevation beam profile (visibility falls with the
-//     distance from the plane relative to the slice thickness), with comet-tail reverberation
-//     along the beam behind them; then a separable Gaussian point-spread function (axial and
-//     lateral widths from the wavelength, at least ~1 pixel) and the envelope |.|.
-//  5. propagation, on a beam grid (rays from the sector apex / parallel beams): attenuation per
-//     tissue and frequency, total shadow behind bone and gas (their attenuation), partial shadow
-//     behind rods; time-gain compensation; gain; log compression over the dynamic range.
+//  4. echo formation on the acquisition grid (beams x depth samples: rays from the sector apex /
+//     parallel beams): the scatterer field is read at each sample's rest point (speckle.h; in
+//     rest space, stretched along the elevation so it decorrelates over the slice thickness
+//     when the plane moves through the tissue) x the local backscatter amplitude; coherent
+//     reflections are added: surfaces (specular ~ cos^4 of the angle of incidence + a diffuse
+//     part; capsule and bladder wall brightest at normal incidence), needles and seeds as rods
+//     weighted by the elevation beam profile, with comet tails, the probe's near-field
+//     reverberation. The complex (I/Q) signal is convolved with the pulse-echo point-spread
+//     function: axial Gaussian from the centre frequency and bandwidth, lateral from the
+//     transmit focus (Gaussian beam, widening away from the focus) and the dynamically focused
+//     receive aperture, per depth; the envelope is |I + iQ|.
+//  5. propagation on the same grid: round-trip attenuation per tissue and frequency, total
+//     shadow behind bone, gas and calcifications, partial shadow behind rods; time-gain
+//     compensation; then scan conversion (bilinear) to the pixels, gain, log compression.
 //  6. overlays: biopsy guide (dotted, sagittal) and template holes (dots, transverse).
 // Buffers are sized in the constructor; render() does not allocate once the scene's vectors
 // have reached their size (the segment list grows to the largest cut seen, then stays).
@@ -72,7 +77,17 @@ class PlaneImager {
   // plane coordinates (s right, t up) [m] of a pixel centre
   double pixel_s(double col) const { return s0_ + col * px_; }
   double pixel_t(double row) const { return t0_ - row * px_; }
-  double wavelength() const { return 1540.0 / set_.frequency; }  // [m]
+  double wavelength() const { return kSoundSpeed / set_.frequency; }  // [m]
+  // Point-spread function of the echo amplitude, FWHM [m]: axial (the same at every depth) and
+  // lateral at a depth below the array surface; both include the scatterer field's own
+  // correlation (the speckle grain they give is the intensity autocorrelation's FWHM).
+  double psf_axial_fwhm() const { return 2.3548 * sig_ax_total_; }
+  double psf_lateral_fwhm(double depth) const;
+  double lattice_step() const { return lattice_; }  // scatterer field lattice [m]
+  int beams() const { return NB_; }
+  int samples() const { return NS_; }
+
+  static constexpr double kSoundSpeed = 1540.0;  // [m/s], soft-tissue average (Duck 1990, ICRU 61)
 
  private:
   struct Seg {
@@ -84,16 +99,26 @@ class PlaneImager {
   void fill_labels();
   void wall_bands();
   void displacement_fields(const UltrasoundScene& sc, const PlaneFrame& f);
-  void scatter(const PlaneFrame& f);
+  void texture(const PlaneFrame& f);
+  void scatter(const UltrasoundScene& sc, const PlaneFrame& f);
   void coherent_surfaces();
   void coherent_rods(const UltrasoundScene& sc, const PlaneFrame& f);
-  void splat(float col, float row, float amp);
+  void reverberation();
+  // lattice coordinates of rest point X (both lattices) into slot a of row_q_
+  void lattice_coords(const float* X, int a);
+  // complex scatterer field of the na slots of row_q_ (x their amplitude) into re, im
+  void speckle(int na, float* re, float* im);
+  // adds a coherent echo at plane point (s, t) [m] of amplitude `amp` per lateral sample
+  void splat(float s, float t, float amp);
   void blur();
   void transmission(const UltrasoundScene& sc, const PlaneFrame& f);
   void compress();
   void overlays(const UltrasoundScene& sc, const PlaneFrame& f);
   // beam direction (unit, plane coords) at plane point (s, t)
   void beam_dir(float s, float t, float* bs, float* bt) const;
+  // continuous grid coordinates (beam, sample) of plane point (s, t)
+  void grid_coords(float s, float t, float* bf, float* kf) const;
+  double lateral_spacing(int k) const;  // distance between neighbouring beams at sample k [m]
 
   const UltrasoundAnatomy& an_;
   UltrasoundSettings set_;
@@ -103,19 +128,31 @@ class PlaneImager {
   UsImage img_;
   // per pixel, fixed by the settings
   std::vector<float> depth_;          // from the array surface [m], <0 outside the view
-  std::vector<float> tgc_;            // TGC x gain x 1/reference amplitude
-  std::vector<int> lut_i_;            // beam-grid cell (b * NS + k) of the pixel, -1 outside
+  std::vector<float> tgc_;            // TGC x gain
+  int sub_ = 1;                       // display samples per pixel, the centre first
+  std::vector<float> sub_w_;          // [sub_] their weights in the pixel's gray level
+  std::vector<int> lut_i_;            // [pixels * sub_] grid sample (k * NB + b) of each display sample
   std::vector<float> lut_wb_, lut_wk_;
-  // beam grid
+  // acquisition grid: NS depth samples (rows) x NB beams, index k * NB + b
   int NB_ = 0, NS_ = 0;
-  std::vector<int> beam_pix_;         // [NB*NS] nearest pixel of each beam sample, -1 outside
-  std::vector<float> T_, mark_;       // [NB*NS] transmitted amplitude; rod shadow marks
-  std::vector<int> rod_k_;            // [NB] per rod: shallowest depth cell where the beam meets it (NS: none)
+  double dz_ = 0, dbeam_ = 0;         // sample spacing [m]; beam spacing [rad] (transverse) or [m] (sagittal)
+  std::vector<float> samp_s_, samp_t_;  // plane coordinates of each sample [m]
+  std::vector<int> samp_pix_;         // nearest pixel of each sample, -1 outside the window
+  std::vector<float> T_, mark_;       // transmitted amplitude; rod shadow marks
+  std::vector<uint8_t> stop_;         // 1: a calcification (stops the beam like bone)
+  std::vector<float> gre_, gim_, gtr_, gti_;  // complex echo and scratch
+  std::vector<float> env_, env_im_;   // I/Q x transmission x calibration
+  std::vector<int> rod_k_;            // [NB] per rod: shallowest depth sample where the beam meets it (NS: none)
   std::vector<float> rod_m_;          // [NB] per rod: fraction of the beam it lets through there
   // PSF
-  std::vector<float> klat_, kax_;     // normalised Gaussian taps
+  std::vector<float> kax_;            // axial taps (in samples, normalised)
+  std::vector<float> klat_;           // lateral taps of every row, concatenated
+  std::vector<int> klat_off_, klat_r_;  // [NS] offset into klat_ and radius of each row's kernel
+  std::vector<float> calib_;          // [NS] 1 / rms envelope of unit-backscatter speckle at that depth
+  std::vector<float> line_gain_;      // [NS] coherent echo gain: unit reflection peaks at the speckle rms
+  double sig_ax_total_ = 0;           // axial PSF incl. the field's correlation, sigma [m]
   float lattice_ = 1e-4f;             // speckle lattice step [m]
-  float ref_ = 1.0f;                  // rms envelope of unit-backscatter speckle (calibrated)
+  float stretch_ = 0.0f;              // elevation stretch of the scatterer field: L / L_elev - 1
   // per frame
   std::vector<float> ps_, pt_, pe_;   // [particles] plane coordinates [m]
   std::vector<float> rest_;           // [3 * particles] rest positions (float) [m]
@@ -127,13 +164,11 @@ class PlaneImager {
   std::vector<int> rank_comp_;        // priority rank -> component
   std::vector<TissueAcoustics> comp_ac_;  // [components] acoustics of each component's tissue
   std::vector<uint8_t> comp_prostate_;    // [components] 1: the gland (echo from the rest volume)
-  std::vector<int> col_a_;            // [W] displacement-grid cell of each pixel column
-  std::vector<float> col_wa_;         // [W] its bilinear weight
-  std::vector<float> cre_, cim_, tmp_re_, tmp_im_, pad_;
   int tx_ = 0, ty_ = 0;               // heterogeneity texture grid (every kTexStep pixels)
   std::vector<float> tex_;
-  std::vector<float> row_q_;          // [6 * W] one row's lattice coordinates, amplitude, noise
-  std::vector<int> row_i_;            // [W] their columns
+  std::vector<float> row_q_;          // [9 * NB] one row's lattice coordinates (2 x 3), amplitude, noise (re, im)
+  std::vector<int> row_i_;            // [NB] their beams
+  std::vector<float> pad_;
 };
 
 // Both planes of the biplane probe.

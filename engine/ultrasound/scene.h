@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/util/vec.h"
@@ -57,6 +58,10 @@ struct RestVolume {
   bool empty() const { return value.empty(); }
 };
 
+// Prostate echo-volume values at or above this are calcifications: bright, and they stop the beam
+// (acoustic shadow) like bone.
+constexpr float kCalcificationEcho = 4.0f;
+
 // A lesion (a tag named lesion* / tumo*, engine/model/organ.h) as MRI-TRUS fusion shows it: a
 // sphere of its rest extent around the current centroid of its particles.
 struct UsLesion {
@@ -72,7 +77,8 @@ struct UltrasoundAnatomy {
   int prostate = -1;                     // index into components of the gland, -1 if none
   RestVolume prostate_echo;              // rest-space echogenicity inside the gland [-]
   std::vector<Vec3> urethra;             // prostatic urethra centre line, rest space [m] (may be empty)
-  double urethra_radius = 2.0e-3;        // anechoic lumen radius [m]
+  double urethra_radius = 1.2e-3;        // hypoechoic (collapsed) lumen radius [m]
+  std::vector<std::pair<Vec3, double>> calcifications;  // rest-space centre and radius [m] (in the echo volume)
   std::vector<UsLesion> lesions;         // fused MRI contours (overlays only, not echo)
 };
 

@@ -37,6 +37,10 @@ void validate(const UltrasoundSettings& s, const std::string& file) {
   check(file, "width_mm", s.linear_width, 1e3, 10.0, 120.0, "mm");
   check(file, "linear_front_mm", s.linear_front, 1e3, 0.0, 100.0, "mm");
   check(file, "slice_thickness_mm", s.slice_thickness, 1e3, 0.1, 10.0, "mm");
+  check(file, "bandwidth", s.bandwidth, 1.0, 0.05, 1.5, "(fraction of the centre frequency)");
+  check(file, "focus_mm", s.focus_depth, 1e3, 2.0, 150.0, "mm");
+  check(file, "f_number", s.f_number, 1.0, 1.0, 10.0, "(focal depth / aperture)");
+  check(file, "rx_aperture_mm", s.rx_aperture, 1e3, 2.0, 80.0, "mm");
   check(file, "width_px", s.width, 1.0, 16, 4096, "px");
   check(file, "height_px", s.height, 1.0, 16, 4096, "px");
 }
