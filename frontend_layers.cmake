@@ -13,9 +13,11 @@ set(PROSTATESIM_FRONTEND_LAYERS
   python      # the prostatesim Python module (pybind11)
   app/plot    # 2D charts into an RGB buffer
   app/labelmap  # patient cases from a segmentation's label map (Teem, nifti2)
+  app/checks  # validation cases against outside references, numerical stress cases
   app/core    # what the commands and the frontends share: the run / replay seams
   app/window  # the GLFW + Dear ImGui window the trainee window and the editor share
   app/frames  # headless replay frames (PNG writer thread, contact sheet)
+  app/session # session capture and report (metrics.json, report.png, CSVs), drawn headless
   app/gui     # the trainee window (GLFW + Dear ImGui)
   app/editor  # the instructor's scenario editor: commands, and its window
   app         # the prostatesim executable: one file per subcommand
@@ -27,9 +29,11 @@ set(PROSTATESIM_FRONTEND_DEPS_igtl haptics engine)
 set(PROSTATESIM_FRONTEND_DEPS_python engine)
 set(PROSTATESIM_FRONTEND_DEPS_app/plot engine)
 set(PROSTATESIM_FRONTEND_DEPS_app/labelmap engine)
+set(PROSTATESIM_FRONTEND_DEPS_app/checks engine)
 set(PROSTATESIM_FRONTEND_DEPS_app/core haptics engine)
 set(PROSTATESIM_FRONTEND_DEPS_app/window render)
 set(PROSTATESIM_FRONTEND_DEPS_app/frames app/core app/plot render)
+set(PROSTATESIM_FRONTEND_DEPS_app/session app/plot render)
 set(PROSTATESIM_FRONTEND_DEPS_app/gui app/core app/window app/frames render haptics)
 set(PROSTATESIM_FRONTEND_DEPS_app/editor app/window render)
-set(PROSTATESIM_FRONTEND_DEPS_app app/core app/labelmap app/plot app/window app/frames app/gui app/editor render haptics igtl)
+set(PROSTATESIM_FRONTEND_DEPS_app app/core app/labelmap app/checks app/session app/plot app/window app/frames app/gui app/editor render haptics igtl)

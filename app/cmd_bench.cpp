@@ -26,7 +26,7 @@
 #include "app/output_paths.h"
 #include "app/plot/chart.h"
 #include "app/progress.h"
-#include "app/validation.h"
+#include "app/checks/validation.h"
 #include "engine/io/png_write.h"
 #include "engine/realtime/scripted_run.h"
 #include "engine/scenario/compile.h"

@@ -93,8 +93,8 @@ void add_plan_command(CLI::App& app, Runner& run) {
       if (!(a->strength_u > 0.0)) throw InputError("command line", 0, "--strength-u", "must be positive");
       prepare_output_file(a->out, "--out");
       const Scene scene = load_scene(a->scenario);
-      if (scene.probe_tool < 0) throw InputError(a->scenario, 0, "probe", "the scenario has no probe (the template rides on its stepper)");
-      const auto& probe = static_cast<const ProbeTool&>(*scene.sim->tools().at(scene.probe_tool));
+      if (!scene.tools.has<ProbeTool>()) throw InputError(a->scenario, 0, "probe", "the scenario has no probe (the template rides on its stepper)");
+      const auto& probe = *scene.tools.as<ProbeTool>();
       const MetricsOptions mo = metrics_options_for(scene.spec);
       DosimetryOptions opt;
       opt.isotope = a->isotope;

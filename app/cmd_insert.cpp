@@ -14,7 +14,7 @@
 #include "app/cli_ranges.h"
 #include "app/commands.h"
 #include "app/output_paths.h"
-#include "app/session_capture.h"
+#include "app/session/session_capture.h"
 #include "engine/metrics/metrics_json.h"
 #include "engine/realtime/lockstep.h"
 #include "engine/scenario/compile.h"
@@ -22,6 +22,7 @@
 #include "engine/sim/scene.h"
 #include "engine/tools/needle_output.h"
 #include "engine/util/error.h"
+#include "engine/tools/needle.h"
 
 namespace ps::app {
 
@@ -58,7 +59,8 @@ void add_insert_command(CLI::App& app, Runner& run) {
       for (const auto& w : needles.warnings()) spdlog::warn("warning: {}", w);
       scene.sim = std::make_unique<Simulation>(scene.model);
       scene.sim->add_tool(std::move(tool));
-      scene.needle_tool = 0;
+      scene.tools.sim = scene.sim.get();
+      scene.tools.entries.push_back({&NeedleTool::kind(), 0});
       const Model& model = *scene.model;
       auto capture = SessionCapture::make(scene);  // throws on a target outside the scene: before anything is written
       prepare_output_dir(args->out, "--out");

@@ -25,7 +25,7 @@
 #include "app/commands.h"
 #include "app/output_paths.h"
 #include "app/core/run_session.h"
-#include "app/session_capture.h"
+#include "app/session/session_capture.h"
 #include "engine/util/error.h"
 
 namespace ps::app {

@@ -9,7 +9,7 @@
 
 #include "app/commands.h"
 #include "app/output_paths.h"
-#include "app/report_chart.h"
+#include "app/session/report_chart.h"
 #include "engine/io/png_write.h"
 #include "engine/metrics/class_report.h"
 #include "engine/util/atomic_file.h"

@@ -31,7 +31,7 @@
 #include "app/commands.h"
 #include "app/output_paths.h"
 #include "app/core/run_session.h"
-#include "app/session_capture.h"
+#include "app/session/session_capture.h"
 #include "engine/realtime/state_file.h"
 #include "engine/sim/watchdog.h"
 #include "engine/util/error.h"
@@ -39,6 +39,8 @@
 #include "haptics/spacemouse.h"
 #if PROSTATESIM_IGTL
 #include "igtl/server.h"
+#include "engine/tools/probe.h"
+#include "engine/tools/needle.h"
 #endif
 
 namespace ps::app {
@@ -114,7 +116,7 @@ int run_live(const RunArgs& a) {
   // bindings of haptics/probe_source.h; a missing SpaceMouse is said and the probe stays put
   std::unique_ptr<haptics::SpaceMouseDevice> probe_spacemouse;
   std::unique_ptr<haptics::ProbeSource> probe_device;
-  if (a.probe_device != "none" && scene.probe_tool < 0) spdlog::warn("--probe-device {}: the scene has no probe", a.probe_device);
+  if (a.probe_device != "none" && !scene.tools.has<ProbeTool>()) spdlog::warn("--probe-device {}: the scene has no probe", a.probe_device);
   else if (a.probe_device == "spacemouse" && !spacemouse) {
     auto sm = std::make_unique<haptics::SpaceMouseDevice>();
     std::string why;
@@ -151,17 +153,17 @@ int run_live(const RunArgs& a) {
   std::unique_ptr<haptics::DeviceSource> igtl_needle;
   if (a.igtl_port >= 0) {
     igtl_server = std::make_unique<igtl::Server>(scene, loop, igtl::ServerOptions{a.igtl_port});
-    if (!player && !probe_device && scene.probe_tool >= 0) {
+    if (!player && !probe_device && scene.tools.has<ProbeTool>()) {
       igtl_probe = std::make_unique<haptics::ProbeSource>(scene, igtl_server->probe_device());
       loop.add_source(igtl_probe.get());
     }
-    if (!player && !device && scene.needle_tool >= 0) {
+    if (!player && !device && scene.tools.has<NeedleTool>()) {
       igtl_needle = std::make_unique<haptics::DeviceSource>(scene, igtl_server->needle_device());
       loop.add_source(igtl_needle.get());
     }
     // stdout, flushed: a client (or a test) waiting for the port reads this line first
     std::printf("OpenIGTLink: serving on port %d (transforms %s%s, images US_Transverse, US_Sagittal; docs/igtl.md)\n",
-                igtl_server->port(), scene.probe_tool >= 0 ? "Probe" : "", scene.needle_tool >= 0 ? ", <needle>Tip" : "");
+                igtl_server->port(), scene.tools.has<ProbeTool>() ? "Probe" : "", scene.tools.has<NeedleTool>() ? ", <needle>Tip" : "");
     std::fflush(stdout);
     igtl_server->start();
   }

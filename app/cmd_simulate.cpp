@@ -47,8 +47,8 @@ void add_simulate_command(CLI::App& app, Runner& run) {
       const CompileReport& rep = scene.report;
       const std::shared_ptr<const Model> model = scene.model;
       Simulation& sim = *scene.sim;
-      auto* probe = scene.probe_tool >= 0 ? static_cast<ProbeTool*>(sim.tools()[scene.probe_tool].get()) : nullptr;
-      auto* filling = scene.filling_tool >= 0 ? static_cast<FillingTool*>(sim.tools()[scene.filling_tool].get()) : nullptr;
+      auto* probe = scene.tools.as<ProbeTool>();
+      auto* filling = scene.tools.as<FillingTool>();
       RunOptions opt;
       opt.duration = args->duration > 0 ? args->duration : (args->until_rest ? std::max(60.0, model->duration) : model->duration);
       opt.until_rest = args->until_rest;

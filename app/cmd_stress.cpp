@@ -18,7 +18,7 @@
 #include "app/commands.h"
 #include "app/output_paths.h"
 #include "app/progress.h"
-#include "app/stress.h"
+#include "app/checks/stress.h"
 #include "engine/realtime/script.h"
 #include "engine/realtime/soak_checkpoint.h"
 #include "engine/sim/scene.h"

@@ -12,9 +12,9 @@
 #include "app/commands.h"
 #include "app/output_paths.h"
 #include "app/progress.h"
-#include "app/validate_indentation.h"
-#include "app/validate_probe.h"
-#include "app/validation.h"
+#include "app/checks/validate_indentation.h"
+#include "app/checks/validate_probe.h"
+#include "app/checks/validation.h"
 #include "engine/util/atomic_file.h"
 #include "engine/util/error.h"
 

@@ -24,6 +24,7 @@
 #include "engine/tools/needle.h"
 #include "engine/tools/probe.h"
 #include "engine/util/thread_cpu_time.h"
+#include "engine/tools/tool_kind.h"
 
 namespace ps::bench {
 namespace {
@@ -35,9 +36,7 @@ void BM_Realtime(benchmark::State& state, const char* scene) {
                                             static_cast<int>(state.range(2)));
   auto model = compile_scenario(spec);
   Simulation sim(model);
-  if (auto t = make_needle_tool(model, spec.needles)) sim.add_tool(std::move(t));
-  if (auto t = make_probe_tool(spec, *model)) sim.add_tool(std::move(t));
-  if (auto t = make_filling_tool(spec, *model)) sim.add_tool(std::move(t));
+  add_scenario_tools(spec, model, sim);  // every kind the scenario has, connected as build_scene does
   const double warm = std::string(scene) == "biopsy" ? 0.1 : 0.4;
   while (sim.state().time < warm - 0.5 * model->dt)
     if (!sim.tick()) { state.SkipWithError("warm-up faulted"); return; }

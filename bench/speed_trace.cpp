@@ -27,7 +27,7 @@ int speed_trace(const std::string& file, const std::string& script_file, int sub
   LockstepRunner& run = sr.run;
   const Model& m = *sc.model;
   const NeedleTool* needles =
-      sc.needle_tool >= 0 ? static_cast<const NeedleTool*>(sc.sim->tools()[sc.needle_tool].get()) : nullptr;
+      sc.tools.has<NeedleTool>() ? sc.tools.as<NeedleTool>() : nullptr;
   const int64_t ticks = sr.ticks();
   const int64_t window = std::max<int64_t>(1, std::llround(0.01 / m.dt));
   std::printf("%s, %s: %d substeps, mass scaling %s, %lld ticks\n", file.c_str(), script_file.c_str(), m.substeps,

@@ -12,6 +12,7 @@
 #include "engine/tools/filling.h"
 #include "engine/tools/needle.h"
 #include "engine/tools/probe.h"
+#include "engine/tools/tool_kind.h"
 
 #if __has_include(<valgrind/callgrind.h>)
 #include <valgrind/callgrind.h>
@@ -26,9 +27,7 @@ int run_ticks(const std::string& file, int ticks) {
   const ScenarioSpec spec = parse_scenario_file(file);
   auto model = compile_scenario(spec);
   Simulation sim(model);
-  if (auto t = make_needle_tool(model, spec.needles)) sim.add_tool(std::move(t));
-  if (auto t = make_probe_tool(spec, *model)) sim.add_tool(std::move(t));
-  if (auto t = make_filling_tool(spec, *model)) sim.add_tool(std::move(t));
+  add_scenario_tools(spec, model, sim);  // every kind the scenario has, connected as build_scene does
   for (int i = 0; i < 20; ++i) sim.tick();
   PS_CALLGRIND_TOGGLE();
   bool ok = true;

@@ -1,4 +1,5 @@
 #include "haptics/device_source.h"
+#include "engine/tools/needle.h"
 
 #include <algorithm>
 #include <cmath>
@@ -28,7 +29,7 @@ std::string DeviceSource::status() const {
 }
 
 void DeviceSource::poll(int64_t tick, const Simulation& sim, CommandApplier& apply) {
-  if (scene_.needle_tool < 0) return;
+  if (!scene_.tools.has<NeedleTool>()) return;
   const auto& needles = scene_.spec.needles.needles;
   if (needles.empty()) return;
   DeviceState st;
@@ -36,12 +37,12 @@ void DeviceSource::poll(int64_t tick, const Simulation& sim, CommandApplier& app
   const bool ok = dev_.poll(t, st) && st.connected;
   Command c;
   c.tick = tick;
-  c.tool = static_cast<int16_t>(scene_.needle_tool);
+  c.tool = static_cast<int16_t>(scene_.tools.index<NeedleTool>());
   c.item = static_cast<int16_t>(needle_);
   if (!ok) {
     if (!disconnected()) {  // once: hold the needle where its command is now
       c.kind = CommandKind::NeedleAdvance;
-      c.value = 0.0;
+      c.needle.speed = 0.0;
       apply.apply(c, tick);
       disconnect_time_.store(t);
       disconnect_depth_.store(depth_);
@@ -75,10 +76,10 @@ void DeviceSource::poll(int64_t tick, const Simulation& sim, CommandApplier& app
     const Vec3 tip = ns.start + depth * dir;
     c.kind = CommandKind::NeedleAim;
     for (int i = 0; i < 3; ++i) {
-      c.pos[i] = tip[i];
-      c.dir[i] = dir[i];
+      c.needle.pos[i] = tip[i];
+      c.needle.dir[i] = dir[i];
     }
-    c.value = 0.0;  // held at the device's pose; the next tick moves it again
+    c.needle.speed = 0.0;  // held at the device's pose; the next tick moves it again
     apply.apply(c, tick);
     depth_ = depth;
   }
@@ -86,7 +87,7 @@ void DeviceSource::poll(int64_t tick, const Simulation& sim, CommandApplier& app
   if (st.rotation.z() != roll_) {
     roll_ = st.rotation.z();
     c.kind = CommandKind::NeedleRotate;
-    c.value = roll_;
+    c.needle.angle = roll_;
     apply.apply(c, tick);
   }
   if (pressed & kButtonFire) {

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "haptics/simulated_hand.h"
+#include "engine/tools/needle.h"
 
 namespace ps::haptics {
 
@@ -47,7 +48,7 @@ void HapticCoupler::rewind() {
 }
 
 void HapticCoupler::poll(int64_t tick, const Simulation&, CommandApplier& apply) {
-  if (scene_.needle_tool < 0) return;
+  if (!scene_.tools.has<NeedleTool>()) return;
   const double u = u_.load(std::memory_order_acquire);
   if (u == last_u_) return;
   last_u_ = u;
@@ -56,19 +57,19 @@ void HapticCoupler::poll(int64_t tick, const Simulation&, CommandApplier& apply)
   const Vec3 tip = ns.start + u * dir;
   Command c;
   c.kind = CommandKind::NeedleAim;
-  c.tool = static_cast<int16_t>(scene_.needle_tool);
+  c.tool = static_cast<int16_t>(scene_.tools.index<NeedleTool>());
   c.item = static_cast<int16_t>(needle_);
   for (int i = 0; i < 3; ++i) {
-    c.pos[i] = tip[i];
-    c.dir[i] = dir[i];
+    c.needle.pos[i] = tip[i];
+    c.needle.dir[i] = dir[i];
   }
   apply.apply(c, tick);
 }
 
 void HapticCoupler::after_tick(int64_t tick, const Simulation& sim) {
-  if (scene_.needle_tool < 0) return;
+  if (!scene_.tools.has<NeedleTool>()) return;
   ToolReadout ro;
-  sim.tools()[scene_.needle_tool]->readout(ro, sim.model(), sim.state());
+  sim.tools()[scene_.tools.index<NeedleTool>()]->readout(ro, sim.model(), sim.state());
   const double q = ro.value;   // needle: plan depth [m]
   const double f = ro.force;   // axial tissue force, tick mean [N]
   if (have_prev_ && std::abs(q - q_prev_) > 1e-6) {

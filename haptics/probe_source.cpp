@@ -47,7 +47,7 @@ std::string ProbeSource::status() const {
 }
 
 void ProbeSource::poll(int64_t tick, const Simulation& sim, CommandApplier& apply) {
-  if (scene_.probe_tool < 0 || !scene_.spec.probe) return;
+  if (!scene_.tools.has<ProbeTool>() || !scene_.spec.probe) return;
   DeviceState st;
   const double t = sim.state().time;
   if (!(dev_.poll(t, st) && st.connected)) {
@@ -59,7 +59,7 @@ void ProbeSource::poll(int64_t tick, const Simulation& sim, CommandApplier& appl
     return;
   }
   if (disconnected()) disconnected_.store(false, std::memory_order_release);  // back: re-reference, no jump
-  const auto* probe = dynamic_cast<const ProbeTool*>(sim.tools()[scene_.probe_tool].get());
+  const auto* probe = scene_.tools.as<ProbeTool>();
   if (!have_ref_ || (st.buttons & kButtonClutch)) {
     ref_dev_ = st;
     ref_pose_ = probe ? probe->pose() : cmd_;
@@ -97,13 +97,13 @@ void ProbeSource::poll(int64_t tick, const Simulation& sim, CommandApplier& appl
   Command c;
   c.kind = CommandKind::ProbeMove;
   c.tick = tick;
-  c.tool = static_cast<int16_t>(scene_.probe_tool);
-  c.insertion = next.insertion;
-  for (int i = 0; i < 3; ++i) c.offset[i] = next.offset[i];
-  c.roll = next.roll;
-  c.tilt = next.tilt;
-  c.yaw = next.yaw;
-  c.duration = dt;
+  c.tool = static_cast<int16_t>(scene_.tools.index<ProbeTool>());
+  c.probe.insertion = next.insertion;
+  for (int i = 0; i < 3; ++i) c.probe.offset[i] = next.offset[i];
+  c.probe.roll = next.roll;
+  c.probe.tilt = next.tilt;
+  c.probe.yaw = next.yaw;
+  c.probe.duration = dt;
   if (apply.apply(c, tick)) {
     cmd_ = next;
     ++sent_;

@@ -26,7 +26,7 @@ namespace ps::haptics {
 
 class ProbeSource final : public CommandSource {
  public:
-  // `scene` must have a probe (scene.probe_tool >= 0; otherwise the source does nothing).
+  // `scene` must have a probe (scene.tools.has<ProbeTool>(); otherwise the source does nothing).
   // scale: probe metres per device metre; angle_scale: probe radians per device radian.
   ProbeSource(const Scene& scene, Device& device, double scale = 1.0, double angle_scale = 1.0);
   void poll(int64_t tick, const Simulation& sim, CommandApplier& apply) override;

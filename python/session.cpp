@@ -17,7 +17,7 @@ namespace ps::python {
 class Session::MetricsFeed final : public CommandSource {
  public:
   explicit MetricsFeed(const Scene& scene)
-      : scene_(scene), needles_(static_cast<const NeedleTool&>(*scene.sim->tools().at(scene.needle_tool))) {
+      : scene_(scene), needles_(*scene.tools.as<NeedleTool>()) {
     rewind();
   }
   void poll(int64_t, const Simulation&, CommandApplier&) override {}
@@ -37,11 +37,10 @@ class Session::MetricsFeed final : public CommandSource {
 Session::Session(const std::string& scenario_path) : scene_(load_scene(scenario_path)) {
   run_ = std::make_unique<LockstepRunner>(*scene_.sim);
   run_->runner().keep_last_good(true);
-  if (scene_.needle_tool >= 0) {
+  if (scene_.tools.has<NeedleTool>()) {
     metrics_ = std::make_unique<MetricsFeed>(scene_);
     run_->add_source(metrics_.get());
   }
-  if (scene_.spec.probe) probe_pose_ = scene_.spec.probe->pose;
 }
 
 Session::~Session() = default;
@@ -53,8 +52,8 @@ bool Session::step(int64_t ticks) {
 
 void Session::command(const std::string& entry_text) {
   const ScriptEntry e = parse_command_text(entry_text);
-  ProbePose pose = probe_pose_;  // kept only when the command is taken
-  const Command c = entry_command(e, scene_, run_->tick(), pose, 0.0, "");
+  TimelineMemory memory = timeline_;  // kept only when the command is taken
+  const Command c = entry_command(e, scene_, run_->tick(), memory, "");
   const int64_t refused = run_->applier().refused();
   // applied now, between ticks: the state is the one a script stamped with this tick gives
   // (TickRunner::step applies its sources' commands at the same point, before the tick runs)
@@ -62,8 +61,10 @@ void Session::command(const std::string& entry_text) {
     const RefusalRing& rr = run_->applier().refusals();
     throw std::invalid_argument(rr.total() > refused ? rr.at(rr.size() - 1).describe() : "command refused");
   }
-  probe_pose_ = pose;
+  timeline_ = memory;
 }
+
+ProbePose Session::probe_pose() const { return commanded_probe_pose(timeline_, scene_.spec); }
 
 Snapshot Session::snapshot() {
   run_->runner().fill_snapshot(snap_, true);  // after the events an ultrasound() call took

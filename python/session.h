@@ -39,7 +39,7 @@ class Session {
   const Scene& scene() const { return scene_; }
   const State& state() const { return scene_.sim->state(); }
   const Model& model() const { return *scene_.model; }
-  const ProbePose& probe_pose() const { return probe_pose_; }   // commanded so far
+  ProbePose probe_pose() const;   // commanded so far (the scenario's start pose before any)
 
   Snapshot snapshot();             // of the current tick, events since the previous call
   // One TRUS plane of the current state ("transverse" or "sagittal"; InputError otherwise, or
@@ -59,7 +59,7 @@ class Session {
   Scene scene_;
   std::unique_ptr<LockstepRunner> run_;
   std::unique_ptr<MetricsFeed> metrics_;
-  ProbePose probe_pose_;
+  TimelineMemory timeline_;       // what the commands so far set (the probe pose)
   Snapshot snap_;
   std::unique_ptr<us::UltrasoundAnatomy> anatomy_;
   std::unique_ptr<us::BiplaneImager> imager_;

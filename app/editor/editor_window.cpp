@@ -17,7 +17,10 @@
 #include "app/editor/view_drag.h"
 #include "app/window/app_window.h"
 #include "engine/realtime/lockstep.h"
+#include "engine/tools/filling.h"
 #include "engine/tools/needle.h"
+#include "engine/tools/probe.h"
+#include "engine/tools/tool_kind.h"
 #include "engine/util/error.h"
 #include "render/gl_api.h"
 #include "render/render_error.h"
@@ -259,38 +262,46 @@ void lesion_panel(EditorCommands& c, FieldErrors& errs, Ui& ui) {
   if (!m.empty()) ImGui::TextColored(kRed, "  %s", m.c_str());
 }
 
-void fill_probe_panel(EditorCommands& c, FieldErrors& errs) {
+// refusal of a section's add button (field errors show at their fields)
+void add_error(const FieldErrors& errs, const char* section) {
+  const auto it = errs.all().find(section);
+  if (it != errs.all().end()) ImGui::TextColored(kRed, "  %s", it->second.c_str());
+}
+
+void filling_panel(EditorCommands& c, FieldErrors& errs, Ui&) {
   const ScenarioSpec* s = c.spec();
-  if (s && s->filling) {
-    ImGui::TextColored(kHead, "Bladder filling");
-    number_field(errs, "max rate [ml/s]", "filling.max_rate_ml_s", s->filling->max_rate * 1e6, [&](double v) { return c.set_max_fill_rate_ml_s(v); });
-    for (const FillSegmentView& v : c.fill_segments()) {
-      ImGui::PushID(v.index);
-      ImGui::TextColored(kDim, "segment %d: %s, %.3g to %.3g s", v.index, v.component.c_str(), v.t0, v.t1);
-      const int i = v.index;
-      number_field(errs, v.label, v.key, v.value, [&](double x) { return c.set_fill_value(i, x); });
-      if (v.kind == FillSpec::Factor && std::isfinite(v.volume_ml))
-        ImGui::TextColored(kDim, "  = %.4g ml (rest volume %.4g ml)", v.volume_ml, v.rest_ml);
-      ImGui::PopID();
-    }
+  if (!s) return;
+  if (!s->filling) {  // a missing section is added with defaults (EditorCommands::add_filling)
+    if (ImGui::Button("Add bladder filling")) errs.note("filling", c.add_filling());
+    add_error(errs, "filling");
+    return;
   }
-  if (s && s->probe) {
-    ImGui::TextColored(kHead, "Probe start pose");
-    for (const char* f : {"insertion_mm", "roll_deg", "tilt_deg", "yaw_deg"}) {
-      const std::string key = std::string("probe.pose.") + f;
-      number_field(errs, f, key, number_or(c.doc().value_text(key), 0.0), [&](double v) { return c.set_probe_pose(f, v); });
-    }
+  number_field(errs, "max rate [ml/s]", "filling.max_rate_ml_s", s->filling->max_rate * 1e6, [&](double v) { return c.set_max_fill_rate_ml_s(v); });
+  for (const FillSegmentView& v : c.fill_segments()) {
+    ImGui::PushID(v.index);
+    ImGui::TextColored(kDim, "segment %d: %s, %.3g to %.3g s", v.index, v.component.c_str(), v.t0, v.t1);
+    const int i = v.index;
+    number_field(errs, v.label, v.key, v.value, [&](double x) { return c.set_fill_value(i, x); });
+    if (v.kind == FillSpec::Factor && std::isfinite(v.volume_ml))
+      ImGui::TextColored(kDim, "  = %.4g ml (rest volume %.4g ml)", v.volume_ml, v.rest_ml);
+    ImGui::PopID();
   }
-  // a missing section is added with defaults (EditorCommands::add_filling / add_probe)
-  if (s && !s->filling && ImGui::Button("Add bladder filling")) errs.note("filling", c.add_filling());
-  if (s && !s->probe) {
+}
+
+void probe_panel(EditorCommands& c, FieldErrors& errs, Ui&) {
+  const ScenarioSpec* s = c.spec();
+  if (!s) return;
+  if (!s->probe) {  // added with defaults (EditorCommands::add_probe)
     if (ImGui::Button("Add probe (biopsy guide)")) errs.note("probe", c.add_probe("needle_guide"));
     ImGui::SameLine();
     if (ImGui::Button("Add probe (template)")) errs.note("probe", c.add_probe("template"));
+    add_error(errs, "probe");
+    return;
   }
-  for (const char* k : {"filling", "probe"}) {  // refusals of the add buttons (field errors show at their fields)
-    const auto it = errs.all().find(k);
-    if (it != errs.all().end()) ImGui::TextColored(kRed, "  %s", it->second.c_str());
+  ImGui::TextColored(kHead, "Start pose");
+  for (const char* f : {"insertion_mm", "roll_deg", "tilt_deg", "yaw_deg"}) {
+    const std::string key = std::string("probe.pose.") + f;
+    number_field(errs, f, key, number_or(c.doc().value_text(key), 0.0), [&](double v) { return c.set_probe_pose(f, v); });
   }
 }
 
@@ -355,6 +366,23 @@ void needle_panel(EditorCommands& c, FieldErrors& errs, Ui& ui) {
   }
   const std::string m = errs.for_key("needles.instruments");
   if (!m.empty()) ImGui::TextColored(kRed, "  %s", m.c_str());
+}
+
+// The editor's section of each instrument kind (engine/tools/tool_kind.h), in the order shown; a
+// new kind adds its panel function and one line here.
+struct EditorToolPanel {
+  const ToolKind* kind;
+  const char* header;
+  void (*draw)(EditorCommands& c, FieldErrors& errs, Ui& ui);
+};
+
+const std::vector<EditorToolPanel>& editor_tool_panels() {
+  static const std::vector<EditorToolPanel> panels = {
+      {&FillingTool::kind(), "Bladder filling", filling_panel},
+      {&ProbeTool::kind(), "Probe", probe_panel},
+      {&NeedleTool::kind(), "Needle plan", needle_panel},
+  };
+  return panels;
 }
 
 }  // namespace
@@ -449,9 +477,8 @@ int run_editor(const EditorArgs& a) {
         if (c.spec()) {
           if (ImGui::CollapsingHeader("Organs and materials", ImGuiTreeNodeFlags_DefaultOpen)) organ_panel(c, errs, ui);
           if (ImGui::CollapsingHeader("Lesions and targets", ImGuiTreeNodeFlags_DefaultOpen)) lesion_panel(c, errs, ui);
-          if (ImGui::CollapsingHeader("Bladder and probe", ImGuiTreeNodeFlags_DefaultOpen))
-            fill_probe_panel(c, errs);
-          if (ImGui::CollapsingHeader("Needle plan", ImGuiTreeNodeFlags_DefaultOpen)) needle_panel(c, errs, ui);
+          for (const EditorToolPanel& p : editor_tool_panels())
+            if (ImGui::CollapsingHeader(p.header, ImGuiTreeNodeFlags_DefaultOpen)) p.draw(c, errs, ui);
           if (ImGui::CollapsingHeader("Preview", ImGuiTreeNodeFlags_DefaultOpen)) {
             if (ImGui::Button(pv.running ? "Pause" : "Run")) pv.running = !pv.running;
             ImGui::SameLine();

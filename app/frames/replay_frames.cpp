@@ -11,6 +11,7 @@
 #include "engine/util/error.h"
 #include "engine/ultrasound/from_simulation.h"
 #include "render/render_scene.h"
+#include "engine/tools/needle.h"
 
 namespace ps::frames {
 
@@ -75,7 +76,7 @@ ReplayFramesResult replay_frames(const Scene& scene, LockstepRunner& run, int64_
   j["faulted"] = r.faulted;
   if (r.faulted) j["fault"] = r.fault;
   r.summary = rec.finish(j.dump());
-  if (scene.needle_tool >= 0) instruments.write(opt.out_dir + "/instruments.csv");
+  if (scene.tools.has<NeedleTool>()) instruments.write(opt.out_dir + "/instruments.csv");
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

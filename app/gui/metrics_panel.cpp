@@ -13,6 +13,7 @@
 #include "engine/metrics/sextant_map.h"
 #include "engine/metrics/tracked_point.h"
 #include "engine/tools/needle_events.h"
+#include "engine/tools/needle.h"
 
 namespace ps::gui {
 
@@ -102,7 +103,7 @@ void metrics_panel(Session& s, const Snapshot& snap) {
   }
   // events: "<needle>: <kind> <component> at ..."
   for (const SnapshotEvent& e : s.new_events()) {
-    if (e.tool != sc.needle_tool) continue;
+    if (e.tool != sc.tools.index<NeedleTool>()) continue;
     const auto kind = static_cast<NeedleEventKind>(e.kind);
     const std::string t = e.text.data();
     if (kind == NeedleEventKind::Core && L.has_map) {  // "...: core at 21.7 mm, 0.00 N [right mid medial, lesion]"

@@ -4,6 +4,7 @@
 
 #include "engine/tools/needle.h"
 #include "engine/util/error.h"
+#include "engine/tools/probe.h"
 
 namespace ps::gui {
 
@@ -92,25 +93,25 @@ void Session::move_probe(double insertion, double roll, double tilt, double yaw)
   if (!has_probe()) return;
   Command c;
   c.kind = CommandKind::ProbeMove;
-  c.tool = static_cast<int16_t>(scene_->probe_tool);
+  c.tool = static_cast<int16_t>(scene_->tools.index<ProbeTool>());
   const ProbePose p0 = initial_probe_pose();
-  c.insertion = insertion;
-  for (int k = 0; k < 3; ++k) c.offset[k] = p0.offset[k];
-  c.roll = roll;
-  c.tilt = tilt;
-  c.yaw = yaw;
-  c.duration = 0.3;
+  c.probe.insertion = insertion;
+  for (int k = 0; k < 3; ++k) c.probe.offset[k] = p0.offset[k];
+  c.probe.roll = roll;
+  c.probe.tilt = tilt;
+  c.probe.yaw = yaw;
+  c.probe.duration = 0.3;
   push(c);
 }
 
 int Session::needle_count() const {
-  if (scene_->needle_tool < 0) return 0;
-  return static_cast<const NeedleTool&>(*scene_->sim->tools()[scene_->needle_tool]).count();
+  if (!scene_->tools.has<NeedleTool>()) return 0;
+  return scene_->tools.as<NeedleTool>()->count();
 }
 
 std::string Session::needle_name(int i) const {
   if (i < 0 || i >= needle_count()) return "-";
-  return static_cast<const NeedleTool&>(*scene_->sim->tools()[scene_->needle_tool]).spec(i).name;
+  return scene_->tools.as<NeedleTool>()->spec(i).name;
 }
 
 namespace {
@@ -124,19 +125,19 @@ Command needle_command(CommandKind k, int tool, int i) {
 }  // namespace
 
 void Session::select(int i) {
-  if (i >= 0 && i < needle_count()) push(needle_command(CommandKind::SelectNeedle, scene_->needle_tool, i));
+  if (i >= 0 && i < needle_count()) push(needle_command(CommandKind::SelectNeedle, scene_->tools.index<NeedleTool>(), i));
 }
 void Session::advance(int i, double speed) {
   if (i < 0 || i >= needle_count()) return;
-  Command c = needle_command(CommandKind::NeedleAdvance, scene_->needle_tool, i);
-  c.value = speed;
+  Command c = needle_command(CommandKind::NeedleAdvance, scene_->tools.index<NeedleTool>(), i);
+  c.needle.speed = speed;
   push(c);
 }
 void Session::fire(int i) {
-  if (i >= 0 && i < needle_count()) push(needle_command(CommandKind::FireGun, scene_->needle_tool, i));
+  if (i >= 0 && i < needle_count()) push(needle_command(CommandKind::FireGun, scene_->tools.index<NeedleTool>(), i));
 }
 void Session::seed(int i) {
-  if (i >= 0 && i < needle_count()) push(needle_command(CommandKind::DepositSeed, scene_->needle_tool, i));
+  if (i >= 0 && i < needle_count()) push(needle_command(CommandKind::DepositSeed, scene_->tools.index<NeedleTool>(), i));
 }
 
 }  // namespace ps::gui

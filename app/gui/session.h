@@ -9,6 +9,7 @@
 
 #include "app/core/run_session.h"
 #include "engine/sim/watchdog.h"
+#include "engine/tools/probe.h"
 #include "render/renderer.h"
 
 namespace ps::gui {
@@ -43,7 +44,7 @@ class Session {
   // a session being recorded: a recording covers a session from its start), nothing changed.
   SavedState load_state(const std::string& path);
 
-  bool has_probe() const { return scene_->probe_tool >= 0; }
+  bool has_probe() const { return scene_->tools.has<ProbeTool>(); }
   ProbePose initial_probe_pose() const { return scene_->spec.probe ? scene_->spec.probe->pose : ProbePose{}; }
   void move_probe(double insertion, double roll, double tilt, double yaw);
 

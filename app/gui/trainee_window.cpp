@@ -20,6 +20,7 @@
 #include "app/gui/metrics_panel.h"
 #include "app/gui/plot_axes.h"
 #include "app/gui/session.h"
+#include "app/gui/tool_panels.h"
 #include "app/gui/ultrasound_worker.h"
 #include "app/window/app_window.h"
 #include "engine/metrics/session_metrics.h"
@@ -44,10 +45,7 @@ struct Ui {
   render::RenderOptions ropt;
   bool help = false;
   bool paused = false;
-  int needle = 0;                 // selected needle index
-  float speed_mm_s = 5.0f;        // advance speed [mm/s]
-  float insertion_mm = 0, roll_deg = 0, tilt_deg = 0, yaw_deg = 0;
-  double probe_peak_n = 0, probe_above_s = 0, probe_time = 0;  // probe contact force read-out
+  ToolPanelState panels;          // the instruments' panels (probe pose, selected needle, ...)
   char open_path[512] = {};
   char state_path[512] = {};      // saved state to load (filled by "Save last good state")
   std::string error;              // last load error (file:line:field)
@@ -276,14 +274,10 @@ void reset_view(Ui& ui, Session& s) {
   ui.ropt.opacity.clear();
   for (const auto& surf : s.renderer().scene().surfaces) ui.ropt.opacity.push_back(surf.colour.a);
   ui.ropt.hidden.assign(s.renderer().scene().surfaces.size(), 0);
-  const ProbePose p = s.initial_probe_pose();
-  ui.insertion_mm = static_cast<float>(p.insertion * 1e3);
-  ui.roll_deg = static_cast<float>(p.roll * 180 / kPi);
-  ui.tilt_deg = static_cast<float>(p.tilt * 180 / kPi);
-  ui.yaw_deg = static_cast<float>(p.yaw * 180 / kPi);
+  ui.panels.probe.reset(s.initial_probe_pose());
   ui.depth_mm.clear();
   ui.force_n.clear();
-  ui.needle = 0;
+  ui.panels.needle.needle = 0;
 }
 
 // force versus depth, drawn with ImDrawList (ImPlot is not packaged)
@@ -357,6 +351,252 @@ void help_overlay(Ui& ui) {
   ImGui::End();
 }
 
+// The newest snapshot: its events into the log, the active needle's force and depth into the plot.
+void read_snapshot(Ui& ui, Session& s, const Snapshot& snap) {
+  for (const SnapshotEvent& e : s.new_events()) {
+    char b[200];
+    std::snprintf(b, sizeof b, "%7.3f s  %s", e.time, e.text.data());
+    push_log(ui, b);
+  }
+  const ToolReadout* active = nullptr;
+  for (const auto& t : snap.tools)
+    if (t.kind == ToolReadout::Needle && (t.active || !active)) active = &t;
+  if (active && active->depth > 0.0 && (ui.depth_mm.empty() || std::abs(ui.depth_mm.back() - active->depth * 1e3) > 0.01)) {
+    ui.depth_mm.push_back(static_cast<float>(active->depth * 1e3));
+    ui.force_n.push_back(static_cast<float>(active->force));
+    if (ui.depth_mm.size() > 20000) {
+      ui.depth_mm.erase(ui.depth_mm.begin(), ui.depth_mm.begin() + 10000);
+      ui.force_n.erase(ui.force_n.begin(), ui.force_n.begin() + 10000);
+    }
+  }
+}
+
+// Keys when ImGui does not want them: views, pause, restart, overlays, the probe, and the needle
+// (to the run's mouse+keyboard device when it has one, docs/realtime.md, else as commands).
+void handle_keys(Ui& ui, Session& s, UsPanel& us, bool& up_held, bool& down_held) {
+  auto pressed = [&](int key) { return ImGui::IsKeyPressed(key, false); };
+  if (pressed(GLFW_KEY_1)) ui.view = render::View::Orbit;
+  if (pressed(GLFW_KEY_2)) ui.view = render::View::Anterior;
+  if (pressed(GLFW_KEY_3)) ui.view = render::View::Lateral;
+  if (pressed(GLFW_KEY_4)) ui.view = render::View::Probe;
+  if (pressed(GLFW_KEY_5)) ui.view = render::View::Needle;
+  if (pressed(GLFW_KEY_P)) { ui.paused = !ui.paused; s.pause(ui.paused); }
+  if (pressed(GLFW_KEY_R)) { s.restart(); reset_view(ui, s); push_log(ui, "restarted"); }
+  if (pressed(GLFW_KEY_C)) ui.ropt.displacement = !ui.ropt.displacement;
+  if (pressed(GLFW_KEY_A)) ui.ropt.force_arrows = !ui.ropt.force_arrows;
+  if (pressed(GLFW_KEY_H) || pressed(GLFW_KEY_F1)) ui.help = !ui.help;
+  if (pressed(GLFW_KEY_ESCAPE)) ui.help = false;
+  if (pressed(GLFW_KEY_M)) us.toggle_lesions = true;
+  if (s.has_probe()) {
+    bool moved = false;
+    auto step = [&](int key, float& v, float by, float lo, float hi) {
+      if (ImGui::IsKeyPressed(key, true)) { v = std::clamp(v + by, lo, hi); moved = true; }
+    };
+    step(GLFW_KEY_PAGE_UP, ui.panels.probe.insertion_mm, 1.0f, 0.0f, 80.0f);
+    step(GLFW_KEY_PAGE_DOWN, ui.panels.probe.insertion_mm, -1.0f, 0.0f, 80.0f);
+    step(GLFW_KEY_LEFT_BRACKET, ui.panels.probe.roll_deg, -2.0f, -90.0f, 90.0f);
+    step(GLFW_KEY_RIGHT_BRACKET, ui.panels.probe.roll_deg, 2.0f, -90.0f, 90.0f);
+    if (moved) ui.panels.probe.command(s);
+  }
+  if (haptics::MouseKeyboardDevice* m = s.mouse()) {
+    using K = haptics::MouseKeyboardDevice;
+    const std::pair<int, K::Key> keys[] = {{GLFW_KEY_W, K::W}, {GLFW_KEY_S, K::S}, {GLFW_KEY_Q, K::Q}, {GLFW_KEY_E, K::E},
+                                           {GLFW_KEY_SPACE, K::Space}, {GLFW_KEY_D, K::D}, {GLFW_KEY_TAB, K::Tab},
+                                           {GLFW_KEY_LEFT_SHIFT, K::Shift}, {GLFW_KEY_UP, K::Up}, {GLFW_KEY_DOWN, K::Down},
+                                           {GLFW_KEY_LEFT, K::Left}, {GLFW_KEY_RIGHT, K::Right}};
+    for (auto [g, k] : keys) {
+      if (ImGui::IsKeyPressed(g, false)) m->key(k, true);
+      if (ImGui::IsKeyReleased(g)) m->key(k, false);
+    }
+    if (ImGui::IsKeyPressed(GLFW_KEY_TAB, false) && s.needle_count() > 0) ui.panels.needle.needle = (ui.panels.needle.needle + 1) % s.needle_count();
+  } else {
+    if (pressed(GLFW_KEY_SPACE)) s.fire(ui.panels.needle.needle);
+    if (pressed(GLFW_KEY_D)) s.seed(ui.panels.needle.needle);
+    if (pressed(GLFW_KEY_TAB) && s.needle_count() > 0) { ui.panels.needle.needle = (ui.panels.needle.needle + 1) % s.needle_count(); s.select(ui.panels.needle.needle); }
+    const bool up = ImGui::IsKeyDown(GLFW_KEY_W), down = ImGui::IsKeyDown(GLFW_KEY_S);
+    if (up != up_held || down != down_held)
+      s.advance(ui.panels.needle.needle, up ? ui.panels.needle.speed_mm_s * 1e-3 : down ? -ui.panels.needle.speed_mm_s * 1e-3 : 0.0);
+    up_held = up;
+    down_held = down;
+  }
+}
+
+// A scenario to switch to after this frame (Open, Record): the running session stays valid until then.
+struct PendingSwitch {
+  bool pending = false;
+  std::string path, record, log;
+};
+
+// The left panel: the scenario, pause / restart / record, saved states, each instrument's panel,
+// the view and rendering options.
+void instruments_panel(Ui& ui, Session& s, const Snapshot& snap, ClickScript& clicks, PendingSwitch& next, ImVec2 ds) {
+  ImGui::SetNextWindowPos(ImVec2(0, 0));
+  ImGui::SetNextWindowSize(ImVec2(kLeftPanel, ds.y));
+  ImGui::Begin("Instruments", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::TextColored(ImVec4(0.6f, 0.9f, 1.0f, 1.0f), "%s", s.name().c_str());
+  ImGui::InputText("##open", ui.open_path, sizeof ui.open_path);
+  ImGui::SameLine();
+  if (ImGui::Button("Open")) {
+    next.pending = true;  // switched after this frame: `s` stays valid until then
+    next.path = ui.open_path;
+    next.record.clear();
+    next.log = std::string("loaded ") + ui.open_path;
+  }
+  if (!ui.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", ui.error.c_str());
+  if (ImGui::Button(ui.paused ? "Resume" : "Pause")) { ui.paused = !ui.paused; s.pause(ui.paused); }
+  ImGui::SameLine();
+  if (ImGui::Button("Restart")) { s.restart(); reset_view(ui, s); push_log(ui, "restarted"); }
+  ImGui::SameLine();
+  if (ImGui::Button(s.recording() ? "Stop recording" : "Record")) {
+    next.pending = true;
+    next.path = s.file();
+    if (s.recording()) {
+      next.record.clear();
+      next.log = "recording saved: " + s.recording_path() + " (scene restarted)";
+    } else {
+      std::filesystem::create_directories("out/recordings");
+      next.record = "out/recordings/" + s.name() + ".rec";
+      next.log = "recording to " + next.record + " from a fresh start";
+    }
+  }
+  // a saved state of this scenario (`run --save-on-fault`, "Save last good state" below)
+  ImGui::InputTextWithHint("##state", "saved state file (.state)", ui.state_path, sizeof ui.state_path);
+  ImGui::SameLine();
+  if (clicks.button("Load state")) {
+    try {
+      const SavedState st = s.load_state(ui.state_path);
+      ui.error.clear();
+      push_log(ui, "loaded state " + std::string(ui.state_path) + " (tick " + std::to_string(st.tick) + ")");
+      std::printf("loaded state %s: tick %lld, state hash %s\n", ui.state_path, static_cast<long long>(st.tick),
+                  hex16(st.state_hash).c_str());
+    } catch (const std::exception& e) {
+      ui.error = e.what();  // nothing changed: the scene runs on
+      push_log(ui, std::string("load state failed: ") + e.what());
+      std::fprintf(stderr, "error: %s\n", e.what());
+    }
+  }
+  ImGui::Separator();
+  draw_tool_controls(s, snap, ui.panels);  // each instrument kind's panel (tool_panels.h)
+  ImGui::Text("View");
+  const char* views[] = {"3D", "anterior", "lateral", "probe", "needle"};
+  int v = static_cast<int>(ui.view == render::View::Orbit ? 0 : static_cast<int>(ui.view) + 1);
+  if (ImGui::Combo("camera", &v, views, 5))
+    ui.view = v == 0 ? render::View::Orbit : static_cast<render::View>(v - 1);
+  ImGui::Checkbox("displacement [mm]", &ui.ropt.displacement);
+  if (ui.ropt.displacement) {
+    float m = static_cast<float>(ui.ropt.displacement_max_mm);
+    if (ImGui::SliderFloat("scale max [mm]", &m, 0.5f, 20.0f)) ui.ropt.displacement_max_mm = m;
+  }
+  ImGui::Checkbox("force arrows", &ui.ropt.force_arrows);
+  ImGui::Text("opacity");
+  const auto& surfaces = s.renderer().scene().surfaces;
+  for (size_t i = 0; i < surfaces.size() && i < ui.ropt.opacity.size(); ++i)
+    ImGui::SliderFloat(surfaces[i].name.c_str(), &ui.ropt.opacity[i], 0.0f, 1.0f);
+  if (ImGui::Button("Help (H)")) ui.help = true;
+  ImGui::End();
+}
+
+// The right panel: force versus depth, the TRUS planes, metrics, dosimetry, instrument read-outs,
+// timing and the event log.
+void readouts_panel(Ui& ui, Session& s, const Snapshot& snap, UsPanel& us, DosePanel& dose, ImVec2 ds) {
+  ImGui::SetNextWindowPos(ImVec2(ds.x - kRightPanel, 0));
+  ImGui::SetNextWindowSize(ImVec2(kRightPanel, ds.y));
+  ImGui::Begin("Read-outs", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  if (ImGui::CollapsingHeader("Force versus depth", ImGuiTreeNodeFlags_DefaultOpen)) {
+    const bool needles = std::any_of(snap.tools.begin(), snap.tools.end(), [](const ToolReadout& r) { return r.kind == ToolReadout::Needle; });
+    if (needles) force_plot(ui, ImVec2(kRightPanel - 20, 190));
+    else ImGui::TextDisabled("no needle in this scene");
+  }
+  if (ImGui::CollapsingHeader("Ultrasound", ImGuiTreeNodeFlags_DefaultOpen)) us_panel(us, s, snap, kRightPanel - 20);
+  if (ImGui::CollapsingHeader("Metrics", ImGuiTreeNodeFlags_DefaultOpen)) metrics_panel(s, snap);
+  if (ImGui::CollapsingHeader("Dosimetry", ImGuiTreeNodeFlags_DefaultOpen)) dose_panel(dose, s, snap, kRightPanel - 20);
+  draw_tool_readouts(s, snap, ui.panels);
+  if (ImGui::CollapsingHeader("Timing", ImGuiTreeNodeFlags_DefaultOpen)) {
+    const LoopTiming t = s.timing();
+    ImGui::Text("sim time %.3f s   tick %lld", snap.time, static_cast<long long>(snap.tick));
+    // LoopTiming::slow_motion: the loop fell more than two ticks behind in the window; it is slow
+    // motion to the trainee only when the window's factor fell short too (else it caught up)
+    const bool slow = t.slow_motion && t.realtime_factor < 0.98 * t.target_factor;
+    ImGui::Text("tick rate %.0f Hz   real-time factor %.2f%s", t.achieved_hz, t.realtime_factor,
+                slow ? " (slow motion)" : t.slow_motion ? " (caught up)" : "");
+    ImGui::Text("tick compute p50 %.2f, p99 %.2f ms (run p99 %.2f)", t.tick_p50_ms, t.tick_p99_ms, t.run_tick_p99_ms);
+    ImGui::Text("frame %.1f ms (%.0f fps)", ui.frame_ms, ui.frame_ms > 0 ? 1000.0 / ui.frame_ms : 0.0);
+  }
+  if (ImGui::CollapsingHeader("Events", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::BeginChild("log", ImVec2(0, 0), true);
+    for (const auto& l : ui.log) ImGui::TextWrapped("%s", l.c_str());  // the depth and force at the end stay in view
+    if (ImGui::GetScrollY() >= ImGui::GetScrollMaxY()) ImGui::SetScrollHereY(1.0f);
+    ImGui::EndChild();
+  }
+  ImGui::End();
+}
+
+// Recovery when the physics stopped, over the 3D view where the trainee looks: save the last good
+// state (loadable with "Load state" or `run --state`), restart.
+void fault_overlay(Ui& ui, Session& s, const Snapshot& snap, ClickScript& clicks, ImVec2 ds) {
+  // recovery (issue 14): the physics stopped; shown over the 3D view, where the trainee
+  // looks: save the last good state (loadable with "Load state" or `run --state`), restart
+  ImGui::SetNextWindowPos(ImVec2(kLeftPanel + 20, 40));
+  ImGui::SetNextWindowSize(ImVec2(std::max(300.0f, ds.x - kLeftPanel - kRightPanel - 40), 0));
+  ImGui::SetNextWindowBgAlpha(0.92f);
+  ImGui::Begin("Simulation fault", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::PushTextWrapPos(0.0f);
+  ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "The physics stopped: %s", snap.fault.data());
+  ImGui::PopTextWrapPos();
+  SavedState st;
+  if (clicks.button("Save last good state")) {
+    if (!s.loop().last_good_state(st)) {
+      push_log(ui, "no last good state kept");
+    } else {
+      const std::string path = s.name() + "-tick" + std::to_string(st.tick) + ".state";
+      try {
+        app::save_fault_state(path, st, s.scene());
+        push_log(ui, "last good state saved to " + path);
+        std::snprintf(ui.state_path, sizeof ui.state_path, "%s", path.c_str());
+      } catch (const std::exception& e) {
+        push_log(ui, std::string("save failed: ") + e.what());
+        std::fprintf(stderr, "error: %s\n", e.what());
+      }
+    }
+  }
+  ImGui::SameLine();
+  if (clicks.button("Restart scene")) {
+    s.restart();
+    reset_view(ui, s);
+    push_log(ui, "restarted after a fault");
+    std::printf("restarted after a fault\n");
+  }
+  ImGui::End();
+}
+
+// The mouse over the 3D view: Ctrl holds the probe as its handle (drag across turns it about its
+// axis, drag up / down angles it about the anal pivot, the wheel pushes and pulls it); otherwise
+// the needle's depth (device), orbit, pan and zoom.
+void handle_view_mouse(Ui& ui, Session& s, const ImGuiIO& io, float vh) {
+  const ImVec2 d = io.MouseDelta;
+  // Ctrl: the probe as its handle is held: drag across turns it about its axis (roll),
+  // drag up / down angles it about the anal pivot (tilt), the wheel pushes and pulls it
+  const bool hold_probe = io.KeyCtrl && s.has_probe();
+  if (hold_probe) {
+    bool moved = false;
+    if (ImGui::IsMouseDown(0) && (d.x != 0.0f || d.y != 0.0f)) {
+      ui.panels.probe.roll_deg = std::clamp(ui.panels.probe.roll_deg + kProbeDragDegPerPixel * d.x, -90.0f, 90.0f);
+      ui.panels.probe.tilt_deg = std::clamp(ui.panels.probe.tilt_deg - kProbeDragDegPerPixel * d.y, -20.0f, 20.0f);
+      moved = true;
+    }
+    if (io.MouseWheel != 0.0f) {
+      ui.panels.probe.insertion_mm = std::clamp(ui.panels.probe.insertion_mm + kProbeWheelMm * io.MouseWheel, 0.0f, 80.0f);
+      moved = true;
+    }
+    if (moved) ui.panels.probe.command(s);
+  } else {
+    if (ImGui::IsMouseDown(0) && s.mouse()) s.mouse()->drag(d.y);  // needle depth (device)
+    else if (ImGui::IsMouseDown(0) || ImGui::IsMouseDown(1)) { ui.view = render::View::Orbit; ui.orbit.rotate(-0.3 * d.x, 0.3 * d.y); }
+    if (ImGui::IsMouseDown(2)) { ui.view = render::View::Orbit; ui.orbit.pan(-d.x * ui.orbit.distance / vh, d.y * ui.orbit.distance / vh); }
+    if (io.MouseWheel != 0.0f) ui.orbit.zoom(std::pow(0.9, io.MouseWheel));
+  }
+}
+
 }  // namespace
 
 int run_window(app::RunSession& run) {
@@ -383,9 +623,9 @@ int run_window(app::RunSession& run) {
     // replaces the running session (the run command's own loop is paused, not stopped)
     auto switch_to = [&](const std::string& path, const std::string& record_to) {
       try {
-        auto next = std::make_unique<Session>(path, factor, record_to);
+        auto opened = std::make_unique<Session>(path, factor, record_to);
         session->pause(true);
-        session = std::move(next);
+        session = std::move(opened);
         reset_view(ui, *session);
         ui.paused = false;
         ui.error.clear();
@@ -397,8 +637,7 @@ int run_window(app::RunSession& run) {
       }
     };
     int frame = 0, us_wait = 0;
-    bool pending = false;
-    std::string pending_path, pending_record, pending_log;
+    PendingSwitch next;
     auto last = std::chrono::steady_clock::now();
     bool up_held = false, down_held = false;
     while (!win->should_close()) {
@@ -408,278 +647,20 @@ int run_window(app::RunSession& run) {
       ImGui::NewFrame();
       Session& s = *session;
 
-      // --- snapshot: events, plot samples ---
       const Snapshot& snap = s.latest();
-      for (const SnapshotEvent& e : s.new_events()) {
-        char b[200];
-        std::snprintf(b, sizeof b, "%7.3f s  %s", e.time, e.text.data());
-        push_log(ui, b);
-      }
-      const ToolReadout* active = nullptr;
-      for (const auto& t : snap.tools)
-        if (t.kind == ToolReadout::Needle && (t.active || !active)) active = &t;
-      if (active && active->depth > 0.0 && (ui.depth_mm.empty() || std::abs(ui.depth_mm.back() - active->depth * 1e3) > 0.01)) {
-        ui.depth_mm.push_back(static_cast<float>(active->depth * 1e3));
-        ui.force_n.push_back(static_cast<float>(active->force));
-        if (ui.depth_mm.size() > 20000) {
-          ui.depth_mm.erase(ui.depth_mm.begin(), ui.depth_mm.begin() + 10000);
-          ui.force_n.erase(ui.force_n.begin(), ui.force_n.begin() + 10000);
-        }
-      }
+      read_snapshot(ui, s, snap);
 
-      // --- keyboard (when ImGui does not want it); instrument keys go to the run's
-      // mouse+keyboard device when it has one (docs/realtime.md), else become commands ---
-      if (!io.WantCaptureKeyboard) {
-        auto pressed = [&](int key) { return ImGui::IsKeyPressed(key, false); };
-        if (pressed(GLFW_KEY_1)) ui.view = render::View::Orbit;
-        if (pressed(GLFW_KEY_2)) ui.view = render::View::Anterior;
-        if (pressed(GLFW_KEY_3)) ui.view = render::View::Lateral;
-        if (pressed(GLFW_KEY_4)) ui.view = render::View::Probe;
-        if (pressed(GLFW_KEY_5)) ui.view = render::View::Needle;
-        if (pressed(GLFW_KEY_P)) { ui.paused = !ui.paused; s.pause(ui.paused); }
-        if (pressed(GLFW_KEY_R)) { s.restart(); reset_view(ui, s); push_log(ui, "restarted"); }
-        if (pressed(GLFW_KEY_C)) ui.ropt.displacement = !ui.ropt.displacement;
-        if (pressed(GLFW_KEY_A)) ui.ropt.force_arrows = !ui.ropt.force_arrows;
-        if (pressed(GLFW_KEY_H) || pressed(GLFW_KEY_F1)) ui.help = !ui.help;
-        if (pressed(GLFW_KEY_ESCAPE)) ui.help = false;
-        if (pressed(GLFW_KEY_M)) us.toggle_lesions = true;
-        if (s.has_probe()) {
-          bool moved = false;
-          auto step = [&](int key, float& v, float by, float lo, float hi) {
-            if (ImGui::IsKeyPressed(key, true)) { v = std::clamp(v + by, lo, hi); moved = true; }
-          };
-          step(GLFW_KEY_PAGE_UP, ui.insertion_mm, 1.0f, 0.0f, 80.0f);
-          step(GLFW_KEY_PAGE_DOWN, ui.insertion_mm, -1.0f, 0.0f, 80.0f);
-          step(GLFW_KEY_LEFT_BRACKET, ui.roll_deg, -2.0f, -90.0f, 90.0f);
-          step(GLFW_KEY_RIGHT_BRACKET, ui.roll_deg, 2.0f, -90.0f, 90.0f);
-          if (moved) s.move_probe(ui.insertion_mm * 1e-3, ui.roll_deg * kPi / 180, ui.tilt_deg * kPi / 180, ui.yaw_deg * kPi / 180);
-        }
-        if (haptics::MouseKeyboardDevice* m = s.mouse()) {
-          using K = haptics::MouseKeyboardDevice;
-          const std::pair<int, K::Key> keys[] = {{GLFW_KEY_W, K::W}, {GLFW_KEY_S, K::S}, {GLFW_KEY_Q, K::Q}, {GLFW_KEY_E, K::E},
-                                                 {GLFW_KEY_SPACE, K::Space}, {GLFW_KEY_D, K::D}, {GLFW_KEY_TAB, K::Tab},
-                                                 {GLFW_KEY_LEFT_SHIFT, K::Shift}, {GLFW_KEY_UP, K::Up}, {GLFW_KEY_DOWN, K::Down},
-                                                 {GLFW_KEY_LEFT, K::Left}, {GLFW_KEY_RIGHT, K::Right}};
-          for (auto [g, k] : keys) {
-            if (ImGui::IsKeyPressed(g, false)) m->key(k, true);
-            if (ImGui::IsKeyReleased(g)) m->key(k, false);
-          }
-          if (ImGui::IsKeyPressed(GLFW_KEY_TAB, false) && s.needle_count() > 0) ui.needle = (ui.needle + 1) % s.needle_count();
-        } else {
-          if (pressed(GLFW_KEY_SPACE)) s.fire(ui.needle);
-          if (pressed(GLFW_KEY_D)) s.seed(ui.needle);
-          if (pressed(GLFW_KEY_TAB) && s.needle_count() > 0) { ui.needle = (ui.needle + 1) % s.needle_count(); s.select(ui.needle); }
-          const bool up = ImGui::IsKeyDown(GLFW_KEY_W), down = ImGui::IsKeyDown(GLFW_KEY_S);
-          if (up != up_held || down != down_held)
-            s.advance(ui.needle, up ? ui.speed_mm_s * 1e-3 : down ? -ui.speed_mm_s * 1e-3 : 0.0);
-          up_held = up;
-          down_held = down;
-        }
-      }
+      if (!io.WantCaptureKeyboard) handle_keys(ui, s, us, up_held, down_held);
 
-      // --- panels ---
       const ImVec2 ds = io.DisplaySize;
-      ImGui::SetNextWindowPos(ImVec2(0, 0));
-      ImGui::SetNextWindowSize(ImVec2(kLeftPanel, ds.y));
-      ImGui::Begin("Instruments", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
-      ImGui::TextColored(ImVec4(0.6f, 0.9f, 1.0f, 1.0f), "%s", s.name().c_str());
-      ImGui::InputText("##open", ui.open_path, sizeof ui.open_path);
-      ImGui::SameLine();
-      if (ImGui::Button("Open")) {
-        pending = true;  // switched after this frame: `s` stays valid until then
-        pending_path = ui.open_path;
-        pending_record.clear();
-        pending_log = std::string("loaded ") + ui.open_path;
-      }
-      if (!ui.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", ui.error.c_str());
-      if (ImGui::Button(ui.paused ? "Resume" : "Pause")) { ui.paused = !ui.paused; s.pause(ui.paused); }
-      ImGui::SameLine();
-      if (ImGui::Button("Restart")) { s.restart(); reset_view(ui, s); push_log(ui, "restarted"); }
-      ImGui::SameLine();
-      if (ImGui::Button(s.recording() ? "Stop recording" : "Record")) {
-        pending = true;
-        pending_path = s.file();
-        if (s.recording()) {
-          pending_record.clear();
-          pending_log = "recording saved: " + s.recording_path() + " (scene restarted)";
-        } else {
-          std::filesystem::create_directories("out/recordings");
-          pending_record = "out/recordings/" + s.name() + ".rec";
-          pending_log = "recording to " + pending_record + " from a fresh start";
-        }
-      }
-      // a saved state of this scenario (`run --save-on-fault`, "Save last good state" below)
-      ImGui::InputTextWithHint("##state", "saved state file (.state)", ui.state_path, sizeof ui.state_path);
-      ImGui::SameLine();
-      if (clicks.button("Load state")) {
-        try {
-          const SavedState st = s.load_state(ui.state_path);
-          ui.error.clear();
-          push_log(ui, "loaded state " + std::string(ui.state_path) + " (tick " + std::to_string(st.tick) + ")");
-          std::printf("loaded state %s: tick %lld, state hash %s\n", ui.state_path, static_cast<long long>(st.tick),
-                      hex16(st.state_hash).c_str());
-        } catch (const std::exception& e) {
-          ui.error = e.what();  // nothing changed: the scene runs on
-          push_log(ui, std::string("load state failed: ") + e.what());
-          std::fprintf(stderr, "error: %s\n", e.what());
-        }
-      }
-      ImGui::Separator();
-      if (s.has_probe()) {
-        ImGui::Text("Probe pose");
-        bool moved = false;
-        moved |= ImGui::SliderFloat("insertion [mm]", &ui.insertion_mm, 0.0f, 80.0f);
-        moved |= ImGui::SliderFloat("roll [deg]", &ui.roll_deg, -90.0f, 90.0f);
-        moved |= ImGui::SliderFloat("tilt [deg]", &ui.tilt_deg, -20.0f, 20.0f);
-        moved |= ImGui::SliderFloat("yaw [deg]", &ui.yaw_deg, -20.0f, 20.0f);
-        if (moved)
-          s.move_probe(ui.insertion_mm * 1e-3, ui.roll_deg * kPi / 180, ui.tilt_deg * kPi / 180, ui.yaw_deg * kPi / 180);
-        // its contact force on the rectal wall, as the session metrics keep it (docs/metrics.md)
-        for (const auto& t : snap.tools) {
-          if (t.kind != ToolReadout::Probe) continue;
-          if (snap.time < ui.probe_time) { ui.probe_peak_n = 0; ui.probe_above_s = 0; }  // restarted
-          if (t.force > kProbeForceThreshold && snap.time > ui.probe_time) ui.probe_above_s += snap.time - ui.probe_time;
-          ui.probe_time = snap.time;
-          ui.probe_peak_n = std::max(ui.probe_peak_n, t.force);
-          const bool high = t.force > kProbeForceThreshold;
-          ImGui::TextColored(high ? ImVec4(1, 0.45f, 0.35f, 1) : ImVec4(0.8f, 0.85f, 0.9f, 1), "contact force %.1f N (peak %.1f N)",
-                             t.force, ui.probe_peak_n);
-          ImGui::Text("%.1f s above %.0f N (provisional)", ui.probe_above_s, kProbeForceThreshold);
-        }
-        ImGui::Separator();
-      }
-      if (s.needle_count() > 0) {
-        ImGui::Text("Needle");
-        if (ImGui::BeginCombo("active", s.needle_name(ui.needle).c_str())) {
-          for (int i = 0; i < s.needle_count(); ++i)
-            if (ImGui::Selectable(s.needle_name(i).c_str(), i == ui.needle)) { ui.needle = i; s.select(i); }
-          ImGui::EndCombo();
-        }
-        ImGui::SliderFloat("speed [mm/s]", &ui.speed_mm_s, 0.5f, 50.0f);
-        if (ImGui::Button("Advance")) s.advance(ui.needle, ui.speed_mm_s * 1e-3);
-        ImGui::SameLine();
-        if (ImGui::Button("Stop")) s.advance(ui.needle, 0.0);
-        ImGui::SameLine();
-        if (ImGui::Button("Retract")) s.advance(ui.needle, -ui.speed_mm_s * 1e-3);
-        if (ImGui::Button("Fire gun")) s.fire(ui.needle);
-        ImGui::SameLine();
-        if (ImGui::Button("Deposit seed")) s.seed(ui.needle);
-        if (active) ImGui::Text("depth %.1f mm   force %.2f N", active->depth * 1e3, active->force);
-        ImGui::Separator();
-      }
-      ImGui::Text("View");
-      const char* views[] = {"3D", "anterior", "lateral", "probe", "needle"};
-      int v = static_cast<int>(ui.view == render::View::Orbit ? 0 : static_cast<int>(ui.view) + 1);
-      if (ImGui::Combo("camera", &v, views, 5))
-        ui.view = v == 0 ? render::View::Orbit : static_cast<render::View>(v - 1);
-      ImGui::Checkbox("displacement [mm]", &ui.ropt.displacement);
-      if (ui.ropt.displacement) {
-        float m = static_cast<float>(ui.ropt.displacement_max_mm);
-        if (ImGui::SliderFloat("scale max [mm]", &m, 0.5f, 20.0f)) ui.ropt.displacement_max_mm = m;
-      }
-      ImGui::Checkbox("force arrows", &ui.ropt.force_arrows);
-      ImGui::Text("opacity");
-      const auto& surfaces = s.renderer().scene().surfaces;
-      for (size_t i = 0; i < surfaces.size() && i < ui.ropt.opacity.size(); ++i)
-        ImGui::SliderFloat(surfaces[i].name.c_str(), &ui.ropt.opacity[i], 0.0f, 1.0f);
-      if (ImGui::Button("Help (H)")) ui.help = true;
-      ImGui::End();
-
-      ImGui::SetNextWindowPos(ImVec2(ds.x - kRightPanel, 0));
-      ImGui::SetNextWindowSize(ImVec2(kRightPanel, ds.y));
-      ImGui::Begin("Read-outs", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
-      if (ImGui::CollapsingHeader("Force versus depth", ImGuiTreeNodeFlags_DefaultOpen)) {
-        const bool needles = std::any_of(snap.tools.begin(), snap.tools.end(), [](const ToolReadout& r) { return r.kind == ToolReadout::Needle; });
-        if (needles) force_plot(ui, ImVec2(kRightPanel - 20, 190));
-        else ImGui::TextDisabled("no needle in this scene");
-      }
-      if (ImGui::CollapsingHeader("Ultrasound", ImGuiTreeNodeFlags_DefaultOpen)) us_panel(us, s, snap, kRightPanel - 20);
-      if (ImGui::CollapsingHeader("Metrics", ImGuiTreeNodeFlags_DefaultOpen)) metrics_panel(s, snap);
-      if (ImGui::CollapsingHeader("Dosimetry", ImGuiTreeNodeFlags_DefaultOpen)) dose_panel(dose, s, snap, kRightPanel - 20);
-      for (const ToolReadout& r : snap.tools)  // a filling (bladder_filling.yaml): its target volume as it fills
-        if (r.kind == ToolReadout::Filling && ImGui::CollapsingHeader("Filling", ImGuiTreeNodeFlags_DefaultOpen))
-          ImGui::Text("target volume of the filled organ %.1f ml", r.value * 1e6);
-      if (ImGui::CollapsingHeader("Timing", ImGuiTreeNodeFlags_DefaultOpen)) {
-        const LoopTiming t = s.timing();
-        ImGui::Text("sim time %.3f s   tick %lld", snap.time, static_cast<long long>(snap.tick));
-        // LoopTiming::slow_motion: the loop fell more than two ticks behind in the window; it is slow
-        // motion to the trainee only when the window's factor fell short too (else it caught up)
-        const bool slow = t.slow_motion && t.realtime_factor < 0.98 * t.target_factor;
-        ImGui::Text("tick rate %.0f Hz   real-time factor %.2f%s", t.achieved_hz, t.realtime_factor,
-                    slow ? " (slow motion)" : t.slow_motion ? " (caught up)" : "");
-        ImGui::Text("tick compute p50 %.2f, p99 %.2f ms (run p99 %.2f)", t.tick_p50_ms, t.tick_p99_ms, t.run_tick_p99_ms);
-        ImGui::Text("frame %.1f ms (%.0f fps)", ui.frame_ms, ui.frame_ms > 0 ? 1000.0 / ui.frame_ms : 0.0);
-      }
-      if (ImGui::CollapsingHeader("Events", ImGuiTreeNodeFlags_DefaultOpen)) {
-        ImGui::BeginChild("log", ImVec2(0, 0), true);
-        for (const auto& l : ui.log) ImGui::TextWrapped("%s", l.c_str());  // the depth and force at the end stay in view
-        if (ImGui::GetScrollY() >= ImGui::GetScrollMaxY()) ImGui::SetScrollHereY(1.0f);
-        ImGui::EndChild();
-      }
-      ImGui::End();
+      instruments_panel(ui, s, snap, clicks, next, ds);
+      readouts_panel(ui, s, snap, us, dose, ds);
       if (ui.help) help_overlay(ui);
-      if (snap.faulted) {
-        // recovery (issue 14): the physics stopped; shown over the 3D view, where the trainee
-        // looks: save the last good state (loadable with "Load state" or `run --state`), restart
-        ImGui::SetNextWindowPos(ImVec2(kLeftPanel + 20, 40));
-        ImGui::SetNextWindowSize(ImVec2(std::max(300.0f, ds.x - kLeftPanel - kRightPanel - 40), 0));
-        ImGui::SetNextWindowBgAlpha(0.92f);
-        ImGui::Begin("Simulation fault", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
-        ImGui::PushTextWrapPos(0.0f);
-        ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "The physics stopped: %s", snap.fault.data());
-        ImGui::PopTextWrapPos();
-        SavedState st;
-        if (clicks.button("Save last good state")) {
-          if (!s.loop().last_good_state(st)) {
-            push_log(ui, "no last good state kept");
-          } else {
-            const std::string path = s.name() + "-tick" + std::to_string(st.tick) + ".state";
-            try {
-              app::save_fault_state(path, st, s.scene());
-              push_log(ui, "last good state saved to " + path);
-              std::snprintf(ui.state_path, sizeof ui.state_path, "%s", path.c_str());
-            } catch (const std::exception& e) {
-              push_log(ui, std::string("save failed: ") + e.what());
-              std::fprintf(stderr, "error: %s\n", e.what());
-            }
-          }
-        }
-        ImGui::SameLine();
-        if (clicks.button("Restart scene")) {
-          s.restart();
-          reset_view(ui, s);
-          push_log(ui, "restarted after a fault");
-          std::printf("restarted after a fault\n");
-        }
-        ImGui::End();
-      }
+      if (snap.faulted) fault_overlay(ui, s, snap, clicks, ds);
 
-      // --- 3D view: mouse in the middle area ---
+      // the 3D view between the panels
       const float vx = kLeftPanel, vw = std::max(1.0f, ds.x - kLeftPanel - kRightPanel), vh = ds.y;
-      if (!io.WantCaptureMouse) {
-        const ImVec2 d = io.MouseDelta;
-        // Ctrl: the probe as its handle is held: drag across turns it about its axis (roll),
-        // drag up / down angles it about the anal pivot (tilt), the wheel pushes and pulls it
-        const bool hold_probe = io.KeyCtrl && s.has_probe();
-        if (hold_probe) {
-          bool moved = false;
-          if (ImGui::IsMouseDown(0) && (d.x != 0.0f || d.y != 0.0f)) {
-            ui.roll_deg = std::clamp(ui.roll_deg + kProbeDragDegPerPixel * d.x, -90.0f, 90.0f);
-            ui.tilt_deg = std::clamp(ui.tilt_deg - kProbeDragDegPerPixel * d.y, -20.0f, 20.0f);
-            moved = true;
-          }
-          if (io.MouseWheel != 0.0f) {
-            ui.insertion_mm = std::clamp(ui.insertion_mm + kProbeWheelMm * io.MouseWheel, 0.0f, 80.0f);
-            moved = true;
-          }
-          if (moved) s.move_probe(ui.insertion_mm * 1e-3, ui.roll_deg * kPi / 180, ui.tilt_deg * kPi / 180, ui.yaw_deg * kPi / 180);
-        } else {
-          if (ImGui::IsMouseDown(0) && s.mouse()) s.mouse()->drag(d.y);  // needle depth (device)
-          else if (ImGui::IsMouseDown(0) || ImGui::IsMouseDown(1)) { ui.view = render::View::Orbit; ui.orbit.rotate(-0.3 * d.x, 0.3 * d.y); }
-          if (ImGui::IsMouseDown(2)) { ui.view = render::View::Orbit; ui.orbit.pan(-d.x * ui.orbit.distance / vh, d.y * ui.orbit.distance / vh); }
-          if (io.MouseWheel != 0.0f) ui.orbit.zoom(std::pow(0.9, io.MouseWheel));
-        }
-      }
+      if (!io.WantCaptureMouse) handle_view_mouse(ui, s, io, vh);
       ImGui::Render();
       int fbw = 0, fbh = 0;
       win->clear_framebuffer(fbw, fbh);
@@ -707,9 +688,9 @@ int run_window(app::RunSession& run) {
       const auto now = std::chrono::steady_clock::now();
       ui.frame_ms = 0.9 * ui.frame_ms + 0.1 * std::chrono::duration<double, std::milli>(now - last).count();
       last = now;
-      if (pending) {
-        pending = false;
-        if (switch_to(pending_path, pending_record)) push_log(ui, pending_log);
+      if (next.pending) {
+        next.pending = false;
+        if (switch_to(next.path, next.record)) push_log(ui, next.log);
       }
     }
     session.reset();  // stops the physics thread, finishes a recording

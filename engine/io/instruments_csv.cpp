@@ -19,11 +19,10 @@ const char* InstrumentsCsv::header() {
 }
 
 void InstrumentsCsv::add(const Scene& scene) {
-  if (!scene.sim || scene.needle_tool < 0) return;
-  const auto& tools = scene.sim->tools();
-  const auto& needles = static_cast<const NeedleTool&>(*tools.at(static_cast<size_t>(scene.needle_tool)));
-  const ProbeTool* probe =
-      scene.probe_tool >= 0 ? &static_cast<const ProbeTool&>(*tools.at(static_cast<size_t>(scene.probe_tool))) : nullptr;
+  const NeedleTool* found = scene.sim ? scene.tools.as<NeedleTool>() : nullptr;
+  if (!found) return;
+  const NeedleTool& needles = *found;
+  const ProbeTool* probe = scene.tools.as<ProbeTool>();
   char probe_cols[200] = ",,,,,,,";
   if (probe) {
     const Vec3 c = probe->frame().capsule.tip * 1e3;

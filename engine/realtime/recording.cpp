@@ -18,13 +18,80 @@ std::string hex16(uint64_t h) {
   return b;
 }
 
+namespace {
+
+// A recording's command line keeps one column per field of the flat layout it has always had
+// (component col row insertion offset[3] roll tilt yaw duration value pos[3] dir[3]), so files
+// written before the per-kind payloads read the same; each kind fills and reads its own columns.
+struct CommandColumns {
+  int component = -1, col = 0, row = 0;
+  double insertion = 0, offset[3] = {0, 0, 0}, roll = 0, tilt = 0, yaw = 0, duration = 0, value = 0;
+  double pos[3] = {0, 0, 0}, dir[3] = {0, 0, 1};
+};
+
+bool is_fill(CommandKind k) { return k == CommandKind::FillRate || k == CommandKind::FillTo; }
+
+CommandColumns columns_of(const Command& c) {
+  CommandColumns w;
+  w.component = c.fill.component;
+  w.col = c.needle.col;
+  w.row = c.needle.row;
+  if (c.kind == CommandKind::ProbeMove) {
+    w.insertion = c.probe.insertion;
+    for (int i = 0; i < 3; ++i) w.offset[i] = c.probe.offset[i];
+    w.roll = c.probe.roll;
+    w.tilt = c.probe.tilt;
+    w.yaw = c.probe.yaw;
+    w.duration = c.probe.duration;
+  } else if (is_fill(c.kind)) {
+    w.duration = c.fill.duration;
+    w.value = c.fill.value;
+  } else {
+    if (c.kind == CommandKind::NeedleDepth) w.insertion = c.needle.depth;
+    w.value = c.kind == CommandKind::NeedleRotate ? c.needle.angle : c.needle.speed;
+    for (int i = 0; i < 3; ++i) {
+      w.pos[i] = c.needle.pos[i];
+      w.dir[i] = c.needle.dir[i];
+    }
+  }
+  return w;
+}
+
+void set_columns(Command& c, const CommandColumns& w) {
+  c.fill.component = w.component;
+  c.needle.col = w.col;
+  c.needle.row = w.row;
+  if (c.kind == CommandKind::ProbeMove) {
+    c.probe.insertion = w.insertion;
+    for (int i = 0; i < 3; ++i) c.probe.offset[i] = w.offset[i];
+    c.probe.roll = w.roll;
+    c.probe.tilt = w.tilt;
+    c.probe.yaw = w.yaw;
+    c.probe.duration = w.duration;
+  } else if (is_fill(c.kind)) {
+    c.fill.duration = w.duration;
+    c.fill.value = w.value;
+  } else {
+    if (c.kind == CommandKind::NeedleDepth) c.needle.depth = w.insertion;
+    if (c.kind == CommandKind::NeedleRotate) c.needle.angle = w.value;
+    else c.needle.speed = w.value;
+    for (int i = 0; i < 3; ++i) {
+      c.needle.pos[i] = w.pos[i];
+      c.needle.dir[i] = w.dir[i];
+    }
+  }
+}
+
+}  // namespace
+
 std::string format_command_line(const Command& c) {
+  const CommandColumns w = columns_of(c);
   char b[640];
   std::snprintf(b, sizeof b,
                 "c %" PRId64 " %s %d %d %d %d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g",
-                c.tick, command_kind_name(c.kind), c.tool, c.item, c.component, c.col, c.row, c.insertion, c.offset[0],
-                c.offset[1], c.offset[2], c.roll, c.tilt, c.yaw, c.duration, c.value, c.pos[0], c.pos[1], c.pos[2], c.dir[0],
-                c.dir[1], c.dir[2]);
+                c.tick, command_kind_name(c.kind), c.tool, c.item, w.component, w.col, w.row, w.insertion, w.offset[0],
+                w.offset[1], w.offset[2], w.roll, w.tilt, w.yaw, w.duration, w.value, w.pos[0], w.pos[1], w.pos[2], w.dir[0],
+                w.dir[1], w.dir[2]);
   return b;
 }
 
@@ -145,12 +212,14 @@ Recording parse_recording_text(const std::string& text, const std::string& file)
       c.kind = static_cast<CommandKind>(kind);
       c.tool = static_cast<int16_t>(to_int(w[3], file, ln, "tool"));
       c.item = static_cast<int16_t>(to_int(w[4], file, ln, "item"));
-      c.component = static_cast<int>(to_int(w[5], file, ln, "component"));
-      c.col = static_cast<int>(to_int(w[6], file, ln, "col"));
-      c.row = static_cast<int>(to_int(w[7], file, ln, "row"));
-      double* d[] = {&c.insertion, &c.offset[0], &c.offset[1], &c.offset[2], &c.roll, &c.tilt, &c.yaw, &c.duration,
-                     &c.value, &c.pos[0], &c.pos[1], &c.pos[2], &c.dir[0], &c.dir[1], &c.dir[2]};
+      CommandColumns col;
+      col.component = static_cast<int>(to_int(w[5], file, ln, "component"));
+      col.col = static_cast<int>(to_int(w[6], file, ln, "col"));
+      col.row = static_cast<int>(to_int(w[7], file, ln, "row"));
+      double* d[] = {&col.insertion, &col.offset[0], &col.offset[1], &col.offset[2], &col.roll, &col.tilt, &col.yaw, &col.duration,
+                     &col.value, &col.pos[0], &col.pos[1], &col.pos[2], &col.dir[0], &col.dir[1], &col.dir[2]};
       for (int i = 0; i < 15; ++i) *d[i] = to_double(w[8 + i], file, ln, "value");
+      set_columns(c, col);
       r.commands.push_back(c);
     } else if (k == "fault" && version >= 2) {
       need(2);

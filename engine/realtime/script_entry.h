@@ -6,6 +6,7 @@
 #include <string>
 
 #include "engine/realtime/script.h"
+#include "engine/tools/tool_kind.h"
 
 namespace ps {
 
@@ -13,10 +14,12 @@ namespace ps {
 // script entry is. InputError naming the key as `where`.key (the file left empty).
 ScriptEntry parse_command_text(const std::string& text, const std::string& where = "command");
 
-// The command of one entry for a scene, stamped `tick`. `probe_pose` is the probe pose commanded
-// so far (a probe entry's missing fields keep it; updated); a needle key aims the needle at its
-// depth, moving on at `needle_speed` [m/s]. InputError (file:line) for an instrument the scene lacks.
-Command entry_command(const ScriptEntry& e, const Scene& scene, int64_t tick, ProbePose& probe_pose, double needle_speed,
-                      const std::string& file);
+// The command of one entry for a scene, stamped `tick`, made by the instrument kind that takes
+// the entry's action (engine/tools/tool_kind.h). `memory` carries what the kinds remember along a
+// timeline (the probe pose commanded so far: a probe entry's missing fields keep it); `timeline`
+// and `index`, when given, let a needle depth key move on at the speed that reaches its next key.
+// InputError (file:line) for an instrument the scene lacks.
+Command entry_command(const ScriptEntry& e, const Scene& scene, int64_t tick, TimelineMemory& memory, const std::string& file,
+                      const std::vector<ScriptEntry>* timeline = nullptr, size_t index = 0);
 
 }  // namespace ps

@@ -9,10 +9,7 @@
 
 #include "engine/scenario/material_models.h"
 #include "engine/spec/yaml_reader.h"
-#include "engine/tools/needle_spec_yaml.h"
-#include "engine/tools/filling_parse.h"
-#include "engine/tools/probe_guide.h"
-#include "engine/tools/probe_parse.h"
+#include "engine/tools/tool_kind.h"
 
 namespace ps {
 
@@ -296,8 +293,10 @@ ScenarioSpec parse_scenario_impl(const std::string& text, const std::string& pat
     throw InputError(path, static_cast<int>(e.mark.line) + 1, "", "YAML syntax error: " + e.msg);
   }
   if (!root.IsMap()) throw InputError(path, 1, "", "a scenario file is a YAML mapping (name:, components:, ...)");
-  r.only_keys(root, "", {"name", "solver", "time", "gravity_m_s2", "rest", "watchdog", "materials", "components", "constraints",
-                         "overrides", "links", "probe", "filling", "tags", "prostate_zones", "lesions", "needles"});
+  std::vector<std::string> keys = {"name",  "solver", "time", "gravity_m_s2", "rest", "watchdog", "materials", "components", "constraints",
+                                   "overrides", "links", "tags", "prostate_zones", "lesions"};
+  for (const ToolKind* k : tool_kinds()) keys.push_back(k->key);  // each instrument's section
+  r.only_keys(root, "", keys);
   const std::string dir = std::filesystem::path(path).parent_path().string();
   ScenarioSpec s;
   s.file = path;
@@ -433,10 +432,9 @@ ScenarioSpec parse_scenario_impl(const std::string& text, const std::string& pat
     if (l["diameter_mm"]) ls.diameter = r.ranged(l["diameter_mm"], "lesions.diameter_mm", 2.0, 40.0, "mm") * kMm;
     s.lesions = ls;
   }
-  if (root["probe"]) parse_probe_section(r, root["probe"], s);        // engine/tools/probe_parse.cpp
-  if (root["filling"]) parse_filling_section(r, root["filling"], s);  // engine/tools/filling_parse.cpp
-  if (root["needles"]) s.needles = parse_needles_yaml(r, root["needles"]);
-  place_guided_needles(s);  // needles in the probe's guide start on it (engine/tools/probe_guide.h)
+  for (const ToolKind* k : tool_kinds())  // each instrument kind parses its own section
+    if (root[k->key]) k->parse_section(r, root[k->key], s);
+  finish_tool_specs(s);  // e.g. needles in the probe's guide start on it
 
   // cross references, checked here so errors point at the line that names them
   auto has_material = [&](const std::string& m) {

@@ -12,9 +12,7 @@
 #include "engine/model/model_hash.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
-#include "engine/tools/filling.h"
-#include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/tool_kind.h"
 #include "engine/util/atomic_file.h"
 #include "engine/util/error.h"
 
@@ -410,9 +408,9 @@ Compiled compile_text(const std::string& text, const std::string& path) {
   try {
     c.spec = std::make_unique<ScenarioSpec>(parse_scenario_text(text, path));
     c.model = compile_scenario(*c.spec);
-    make_needle_tool(c.model, c.spec->needles);  // the needle checks against the model
-    make_probe_tool(*c.spec, *c.model);            // the probe's (start pose in the rectum, not in bone)
-    make_filling_tool(*c.spec, *c.model);          // the filling's (a volume-constrained organ, volumes in range)
+    // each instrument checks its spec against the model (the needle's paths, the probe's start pose
+    // in the rectum and not in bone, the filling's volume-constrained organ and volumes in range)
+    for (const ToolKind* k : tool_kinds()) k->make(*c.spec, c.model);
     c.issue = check_scenario_semantics(*c.spec, *c.model);
   } catch (const InputError& e) {
     c.issue = DocumentIssue{e.field(), e.line(), e.message()};

@@ -5,10 +5,7 @@
 
 #include "engine/metrics/metrics_options.h"
 #include "engine/scenario/parse_yaml.h"
-#include "engine/tools/filling.h"
 #include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
-#include "engine/tools/probe_guide.h"
 #include "engine/util/error.h"
 #include "engine/util/state_io.h"
 
@@ -17,27 +14,11 @@ namespace ps {
 Scene build_scene(const ScenarioSpec& spec) {
   Scene sc;
   sc.spec = spec;
-  place_guided_needles(sc.spec);  // a needle in the probe's guide starts on it (a spec built in code)
+  finish_tool_specs(sc.spec);  // e.g. a needle in the probe's guide starts on it (a spec built in code)
   sc.model = compile_scenario(sc.spec, &sc.report);
   sc.sim = std::make_unique<Simulation>(sc.model);
-  NeedleTool* needles = nullptr;
-  ProbeTool* probe = nullptr;
-  // order: needles, probe, filling (as the CLI has always added them: same bits as before)
-  if (auto t = make_needle_tool(sc.model, sc.spec.needles)) {
-    needles = t.get();
-    sc.needle_tool = static_cast<int>(sc.sim->tools().size());
-    sc.sim->add_tool(std::move(t));
-  }
-  if (auto t = make_probe_tool(sc.spec, *sc.model)) {
-    probe = t.get();
-    sc.probe_tool = static_cast<int>(sc.sim->tools().size());
-    sc.sim->add_tool(std::move(t));
-  }
-  if (auto t = make_filling_tool(sc.spec, *sc.model)) {
-    sc.filling_tool = static_cast<int>(sc.sim->tools().size());
-    sc.sim->add_tool(std::move(t));
-  }
-  if (needles && probe) needles->attach_probe(probe);
+  sc.tools = add_scenario_tools(sc.spec, sc.model, *sc.sim);
+  NeedleTool* needles = sc.tools.as<NeedleTool>();
   if (needles && sc.spec.prostate_zones) {  // the anatomy's urethra line, when it has one
     const MetricsOptions opt = metrics_options_for(sc.spec);
     needles->set_urethra(opt.urethra, opt.urethra_radius);
@@ -64,13 +45,10 @@ Scene load_scene(const std::string& path) {
 std::vector<std::string> scene_tool_reports(const Scene& scene) {
   std::vector<std::string> out;
   if (!scene.sim) return out;
-  const auto& tools = scene.sim->tools();
-  if (scene.probe_tool >= 0)
-    for (const std::string& l : static_cast<const ProbeTool&>(*tools.at(static_cast<size_t>(scene.probe_tool))).reports())
-      out.push_back("probe: " + l);
-  if (scene.filling_tool >= 0)
-    for (const std::string& l : static_cast<const FillingTool&>(*tools.at(static_cast<size_t>(scene.filling_tool))).reports())
-      out.push_back("filling: " + l);
+  for (const ToolSet::Entry& e : scene.tools.entries)
+    if (e.kind->reports)
+      for (const std::string& l : e.kind->reports(*scene.sim->tools()[static_cast<size_t>(e.index)]))
+        out.push_back(std::string(e.kind->key) + ": " + l);
   return out;
 }
 

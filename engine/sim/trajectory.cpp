@@ -5,9 +5,8 @@
 #include <stdexcept>
 
 #include "engine/sim/run.h"
-#include "engine/tools/filling.h"
 #include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/tool_kind.h"
 
 namespace ps {
 
@@ -15,13 +14,7 @@ Trajectory record_trajectory(const ScenarioSpec& spec, std::shared_ptr<const Mod
                              const Vec3& target_point) {
   const Model& m = *model;
   Simulation sim(model);
-  NeedleTool* needles = nullptr;
-  if (auto t = make_needle_tool(model, spec.needles)) {
-    needles = t.get();
-    sim.add_tool(std::move(t));
-  }
-  if (auto t = make_probe_tool(spec, m)) sim.add_tool(std::move(t));
-  if (auto t = make_filling_tool(spec, m)) sim.add_tool(std::move(t));
+  NeedleTool* needles = add_scenario_tools(spec, model, sim).as<NeedleTool>();
 
   Trajectory tr;
   tr.dt = m.dt;

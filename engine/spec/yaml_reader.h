@@ -8,6 +8,7 @@
 #include <initializer_list>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "engine/util/error.h"
 #include "engine/util/vec.h"
@@ -27,13 +28,16 @@ class YamlReader {
 
   // Rejects any key of map `n` not in `allowed` (typos must not be silently ignored).
   void only_keys(const YAML::Node& n, const std::string& where, std::initializer_list<const char*> allowed) const {
+    only_keys(n, where, std::vector<std::string>(allowed.begin(), allowed.end()));
+  }
+  void only_keys(const YAML::Node& n, const std::string& where, const std::vector<std::string>& allowed) const {
     if (!n.IsMap()) fail(n, where, "expected a mapping");
     std::set<std::string> ok(allowed.begin(), allowed.end());
     for (auto it = n.begin(); it != n.end(); ++it) {
       const std::string k = it->first.as<std::string>();
       if (!ok.count(k)) {
         std::string list;
-        for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+        for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
         throw InputError(file_, line_of(it->first), where.empty() ? k : where + "." + k,
                          "unknown key (allowed: " + list + ")");
       }

@@ -34,8 +34,12 @@ inline constexpr double kDefaultMaxFillRate = 5e-6;   // [m^3/s] = 5 ml/s
 inline constexpr double kMinVolumeFraction = 0.1;     // target >= 0.1 x rest volume
 inline constexpr double kMaxVolumeFactor = 10.0;      // target <= 10 x rest volume
 
+struct ToolKind;  // engine/tools/tool_kind.h
+
 class FillingTool final : public Tool {
  public:
+  // its entry in the instrument registry (filling_kind.cpp, engine/tools/tool_kind.h)
+  static const ToolKind& kind();
   // Throws InputError naming the schedule entry for an unknown or non-volume-constrained
   // component, target <= 0, a volume leaving the allowed range or a rate that is not finite.
   FillingTool(const FillingSpec& spec, const Model& model);

@@ -18,13 +18,13 @@ bool FillingTool::apply(const Command& c, const Model& m, const State&, CommandR
     why.set("not a filling command");
     return false;
   }
-  if (c.component < 0 || c.component >= static_cast<int>(m.components.size())) {
+  if (c.fill.component < 0 || c.fill.component >= static_cast<int>(m.components.size())) {
     char b[80];
-    std::snprintf(b, sizeof b, "component index %d out of range", c.component);
+    std::snprintf(b, sizeof b, "component index %d out of range", c.fill.component);
     why.set(b);
     return false;
   }
-  const std::string& name = m.components[c.component].name;
+  const std::string& name = m.components[c.fill.component].name;
   bool filled = false;
   for (const Organ& o : organs_) filled |= o.name == name;
   if (!filled) {
@@ -34,22 +34,22 @@ bool FillingTool::apply(const Command& c, const Model& m, const State&, CommandR
     return false;
   }
   if (c.kind == CommandKind::FillRate) {
-    if (!std::isfinite(c.value)) {
+    if (!std::isfinite(c.fill.value)) {
       why.set("filling.set_rate.rate: rate must be finite");
       return false;
     }
-    set_rate(name, c.value);
+    set_rate(name, c.fill.value);
     return true;
   }
-  if (!(c.value > 0.0) || !std::isfinite(c.value)) {
+  if (!(c.fill.value > 0.0) || !std::isfinite(c.fill.value)) {
     why.set("filling.fill_to.target: a target volume must be > 0");
     return false;
   }
-  if (!(c.duration >= 0.0) || !std::isfinite(c.duration)) {
+  if (!(c.fill.duration >= 0.0) || !std::isfinite(c.fill.duration)) {
     why.set("filling.fill_to.duration: must be >= 0");
     return false;
   }
-  fill_to(name, c.value, c.duration);
+  fill_to(name, c.fill.value, c.fill.duration);
   return true;
 }
 

@@ -165,8 +165,12 @@ struct CoreReport {
   Vec3 direction = -Vec3::UnitZ();      // the needle's direction then
 };
 
+struct ToolKind;  // engine/tools/tool_kind.h
+
 class NeedleTool : public Tool {
  public:
+  // its entry in the instrument registry (needle_kind.cpp, engine/tools/tool_kind.h)
+  static const ToolKind& kind();
   // Validates the needles against the model (InputError naming the needle field): path that
   // never comes near the scene, unknown components in puncture_n, unknown tumour components/tags.
   NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& spec);

@@ -97,16 +97,16 @@ bool NeedleTool::apply(const Command& c, const Model& m, const State& s, Command
   const double now = s.time;
   switch (c.kind) {
     case CommandKind::NeedleAim: {
-      const Vec3 tip(c.pos[0], c.pos[1], c.pos[2]);
-      const Vec3 dir(c.dir[0], c.dir[1], c.dir[2]);
-      if (!tip.allFinite() || !dir.allFinite() || !(dir.norm() > 1e-9) || !std::isfinite(c.value)) {
+      const Vec3 tip(c.needle.pos[0], c.needle.pos[1], c.needle.pos[2]);
+      const Vec3 dir(c.needle.dir[0], c.needle.dir[1], c.needle.dir[2]);
+      if (!tip.allFinite() || !dir.allFinite() || !(dir.norm() > 1e-9) || !std::isfinite(c.needle.speed)) {
         why.set("needle aim needs a finite tip, speed and a non-zero direction");
         return false;
       }
       if (nd.guided) {  // the guide sets the direction: the tip's depth along it is what counts
         nd.interactive = true;
         nd.cmd_depth = (tip - nd.guide_now.entry).dot(nd.guide_now.direction) - gun_stroke(nd, now);
-        nd.cmd_speed = c.value;
+        nd.cmd_speed = c.needle.speed;
         nd.cmd_t0 = now;
         return true;
       }
@@ -114,44 +114,44 @@ bool NeedleTool::apply(const Command& c, const Model& m, const State& s, Command
       nd.cmd_T = tip;
       nd.cmd_d = dir.normalized();
       nd.cmd_V = Vec3::Zero();
-      nd.cmd_speed = c.value;
+      nd.cmd_speed = c.needle.speed;
       nd.cmd_t0 = now;
       return true;
     }
     case CommandKind::NeedleDepth: {
-      if (!std::isfinite(c.insertion) || !std::isfinite(c.value)) {
+      if (!std::isfinite(c.needle.depth) || !std::isfinite(c.needle.speed)) {
         why.set("needle depth and speed must be finite");
         return false;
       }
-      if (c.insertion > nd.spec.length) {
-        std::snprintf(msg, sizeof msg, "depth %.1f mm is beyond the needle's length %.1f mm", c.insertion * 1e3,
+      if (c.needle.depth > nd.spec.length) {
+        std::snprintf(msg, sizeof msg, "depth %.1f mm is beyond the needle's length %.1f mm", c.needle.depth * 1e3,
                       nd.spec.length * 1e3);
         why.set(msg);
         return false;
       }
       if (nd.guided) {
         nd.interactive = true;
-        nd.cmd_depth = c.insertion - gun_stroke(nd, now);
+        nd.cmd_depth = c.needle.depth - gun_stroke(nd, now);
       } else {
         const Vec3 d = nd.spec.direction.normalized();
         nd.interactive = true;
-        nd.cmd_T = nd.spec.start + (c.insertion - gun_stroke(nd, now)) * d;
+        nd.cmd_T = nd.spec.start + (c.needle.depth - gun_stroke(nd, now)) * d;
         nd.cmd_d = d;
         nd.cmd_V = Vec3::Zero();
       }
-      nd.cmd_speed = c.value;
+      nd.cmd_speed = c.needle.speed;
       nd.cmd_t0 = now;
       return true;
     }
     case CommandKind::NeedleAdvance: {
-      if (!std::isfinite(c.value)) {
+      if (!std::isfinite(c.needle.speed)) {
         why.set("needle advance speed is not finite");
         return false;
       }
       if (nd.guided) {
         nd.cmd_depth = guide_depth(nd, now) - gun_stroke(nd, now);
         nd.interactive = true;
-        nd.cmd_speed = c.value;
+        nd.cmd_speed = c.needle.speed;
         nd.cmd_t0 = now;
         return true;
       }
@@ -165,16 +165,16 @@ bool NeedleTool::apply(const Command& c, const Model& m, const State& s, Command
       } else {
         nd.cmd_T = commanded_tip(nd, now);
       }
-      nd.cmd_speed = c.value;
+      nd.cmd_speed = c.needle.speed;
       nd.cmd_t0 = now;
       return true;
     }
     case CommandKind::NeedleRotate:
-      if (!std::isfinite(c.value)) {
+      if (!std::isfinite(c.needle.speed)) {
         why.set("needle rotation is not finite");
         return false;
       }
-      nd.hub_roll = c.value;
+      nd.hub_roll = c.needle.speed;
       return true;
     case CommandKind::NeedleRelease:
       if (nd.guided && nd.spec.script.empty()) {  // no script to go back to: held where it is in the guide
@@ -226,13 +226,13 @@ bool NeedleTool::apply(const Command& c, const Model& m, const State& s, Command
         return false;
       }
       const ProbeSpec& ps = probe_->spec();
-      if (c.col < 0 || c.row < 0 || c.col >= ps.template_cols || c.row >= ps.template_rows) {
-        std::snprintf(msg, sizeof msg, "template hole (%d, %d) outside the %d x %d grid", c.col, c.row,
+      if (c.needle.col < 0 || c.needle.row < 0 || c.needle.col >= ps.template_cols || c.needle.row >= ps.template_rows) {
+        std::snprintf(msg, sizeof msg, "template hole (%d, %d) outside the %d x %d grid", c.needle.col, c.needle.row,
                       ps.template_cols, ps.template_rows);
         why.set(msg);
         return false;
       }
-      const NeedlePath p = probe_->template_hole(c.col, c.row);
+      const NeedlePath p = probe_->template_hole(c.needle.col, c.needle.row);
       nd.interactive = true;
       nd.cmd_T = p.entry;
       nd.cmd_d = p.direction.normalized();

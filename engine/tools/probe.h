@@ -94,8 +94,12 @@ enum class ProbeBroadPhase : uint8_t {
   Box,   // default: every candidate, axis-aligned box around the capsule
 };
 
+struct ToolKind;  // engine/tools/tool_kind.h
+
 class ProbeTool final : public Tool {
  public:
+  // its entry in the instrument registry (probe_kind.cpp, engine/tools/tool_kind.h)
+  static const ToolKind& kind();
   // Checks the spec against the model and throws InputError (file:line:field) when a named
   // component is missing, the start pose is outside the rectum (the component named
   // contact.rectum, else one called "rectum", if any), overlaps a contact component by more than
@@ -218,6 +222,15 @@ class ProbeTool final : public Tool {
   double penetration_ = 0.0, penetration_seen_ = 0.0;
   ToolReportRing reports_;
 };
+
+// The pose a timeline's probe entries have commanded so far (a probe entry's missing fields keep
+// it): the scenario's start pose before the first (probe_kind.cpp).
+struct CommandedPose {
+  bool set = false;
+  ProbePose pose;
+};
+class TimelineMemory;
+ProbePose commanded_probe_pose(const TimelineMemory& memory, const ScenarioSpec& spec);
 
 // The probe of a scenario (nullptr when it has no probe: section).
 std::unique_ptr<ProbeTool> make_probe_tool(const ScenarioSpec& spec, const Model& model);

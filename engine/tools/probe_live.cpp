@@ -26,17 +26,17 @@ bool ProbeTool::apply(const Command& c, const Model&, const State&, CommandRefus
     return false;
   }
   ProbePose p;
-  p.insertion = c.insertion;
-  p.offset = Vec3(c.offset[0], c.offset[1], c.offset[2]);
-  p.roll = c.roll;
-  p.tilt = c.tilt;
-  p.yaw = c.yaw;
+  p.insertion = c.probe.insertion;
+  p.offset = Vec3(c.probe.offset[0], c.probe.offset[1], c.probe.offset[2]);
+  p.roll = c.probe.roll;
+  p.tilt = c.probe.tilt;
+  p.yaw = c.probe.yaw;
   // refused before anything changes, with a fixed message: no allocation on the physics thread
-  if (const char* bad = check_move(p, c.duration)) {
+  if (const char* bad = check_move(p, c.probe.duration)) {
     why.set(bad);
     return false;
   }
-  move_to(p, c.duration);
+  move_to(p, c.probe.duration);
   return true;
 }
 

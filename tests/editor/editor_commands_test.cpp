@@ -32,7 +32,7 @@ std::string block_scene(const std::string& target = "[0, 0, -12]") {
 // Runs the document's scene for `seconds` with the session metrics; mean targeting error [mm].
 double run_error_mm(const EditorCommands& c, double seconds) {
   Scene s = c.preview_scene();
-  const auto& tool = static_cast<const NeedleTool&>(*s.sim->tools().at(s.needle_tool));
+  const auto& tool = *s.tools.as<NeedleTool>();
   SessionMetrics m(*s.model, tool);
   const long ticks = std::lround(seconds / s.model->dt);
   for (long i = 0; i < ticks; ++i) {

@@ -11,6 +11,8 @@
 #include <filesystem>
 
 #include "app/editor/editor_commands.h"
+#include "engine/tools/probe.h"
+#include "engine/tools/filling.h"
 
 namespace ps::editor {
 namespace {
@@ -76,7 +78,7 @@ TEST_F(EditorSections, AddFillingSaveAndLoadGiveTheSameCompiledScenario) {
   EXPECT_EQ(back.spec()->filling->schedule[0].value, edited.schedule[0].value);
   EXPECT_EQ(back.spec()->filling->schedule[0].t1, edited.schedule[0].t1);
   const Scene sc = back.preview_scene();
-  EXPECT_GE(sc.filling_tool, 0) << "no filling tool in the scene built from the saved file";
+  EXPECT_GE(sc.tools.index<FillingTool>(), 0) << "no filling tool in the scene built from the saved file";
   // the file keeps everything else: the comments of the original are still there
   EXPECT_NE(back.doc().text().find("# an example lesion"), std::string::npos);
   // undo (in the first document) removes the section again
@@ -115,8 +117,8 @@ TEST_F(EditorSections, AddProbeSaveAndLoadGiveTheSameCompiledScenario) {
   EXPECT_EQ(back.spec()->probe->radius, p.radius);
   EXPECT_TRUE(back.spec()->probe->has_guide);
   const Scene sc = back.preview_scene();
-  EXPECT_GE(sc.probe_tool, 0) << "no probe in the scene built from the saved file";
-  EXPECT_GE(sc.filling_tool, 0);
+  EXPECT_GE(sc.tools.index<ProbeTool>(), 0) << "no probe in the scene built from the saved file";
+  EXPECT_GE(sc.tools.index<FillingTool>(), 0);
 }
 
 }  // namespace

@@ -33,7 +33,7 @@ TEST(DeviceSource, DrivesTheNeedleAndADisconnectLeavesItWhereItWas) {
   DeviceSource src(sc, dev);
   LockstepRunner run(*sc.sim);
   run.add_source(&src);
-  const auto& needle = static_cast<const NeedleTool&>(*sc.sim->tools()[sc.needle_tool]);
+  const auto& needle = *sc.tools.as<NeedleTool>();
   for (int k = 1; k <= 200; ++k) {   // push 10 mm over 0.2 s
     dev.st.position.z() = 0.010 * k / 200.0;
     ASSERT_TRUE(run.step());

@@ -26,11 +26,11 @@ class SyntheticDevice final : public Device {
   DeviceState st;
 };
 
-const ProbeTool& probe_of(const Scene& sc) { return static_cast<const ProbeTool&>(*sc.sim->tools()[sc.probe_tool]); }
+const ProbeTool& probe_of(const Scene& sc) { return *sc.tools.as<ProbeTool>(); }
 
 TEST(ProbeSource, SixAxesMoveThePoseRelativeToWhereItWas) {
   Scene sc = test::make_live_scene();
-  ASSERT_GE(sc.probe_tool, 0);
+  ASSERT_GE(sc.tools.index<ProbeTool>(), 0);
   SyntheticDevice dev;
   dev.st.position = Vec3(0.3, -0.2, 0.1);  // anywhere: only motion counts
   dev.st.rotation = Vec3(0.5, 0.1, -1.0);

@@ -19,6 +19,7 @@
 #include "engine/ultrasound/imager.h"
 #include "haptics/probe_source.h"
 #include "igtl/poses.h"
+#include "engine/tools/probe.h"
 
 namespace ps::igtl {
 namespace {
@@ -86,7 +87,7 @@ void send_transform(::igtl::ClientSocket* s, const char* name, const Vec3& p_mm)
 
 TEST(IgtlServer, SendsPosesAndImagesAndTakesATrackedProbe) {
   Scene scene = load_scene(PROSTATESIM_SOURCE_DIR "/config/biopsy.yaml");
-  ASSERT_GE(scene.probe_tool, 0);
+  ASSERT_GE(scene.tools.index<ProbeTool>(), 0);
   LoopOptions lo;
   lo.log_timing = false;
   PhysicsLoop loop(*scene.sim, lo);

@@ -56,7 +56,7 @@ TEST(InstrumentsCsv, ARolledProbeTurnsTheNeedlesPathAboutItsAxis) {
             "probe_roll_deg,probe_tilt_deg,probe_yaw_deg,probe_insertion_mm,probe_force_n");
   for (size_t r = 1; r < rows.size(); ++r) ASSERT_EQ(rows[r].size(), 17u) << r;
   auto dir = [&](size_t r) { return Vec3(std::stod(rows[r][5]), std::stod(rows[r][6]), std::stod(rows[r][7])); };
-  const auto& probe = static_cast<const ProbeTool&>(*sc.sim->tools().at(sc.probe_tool));
+  const auto& probe = *sc.tools.as<ProbeTool>();
   const Vec3 axis = probe.frame().axis();  // a roll leaves the axis where it was
   const Vec3 a = dir(1), b = dir(rows.size() - 1);
   EXPECT_NEAR(a.norm(), 1.0, 1e-5);

@@ -35,7 +35,7 @@ TEST(Biopsy12Core, TwelveCoresAtTwelveSitesScoreNinety) {
   run.add_source(&player);
   const Watchdog dog(*sc.model);
   run.runner().set_watchdog(&dog);
-  const auto& needles = static_cast<const NeedleTool&>(*sc.sim->tools().at(sc.needle_tool));
+  const auto& needles = *sc.tools.as<NeedleTool>();
   SessionMetrics metrics(*sc.model, needles, metrics_options_for(sc.spec));
   const int64_t end = static_cast<int64_t>(std::llround(s.duration / sc.model->dt));
   while (run.tick() < end) {

@@ -23,6 +23,7 @@
 #include "engine/tools/probe.h"
 #include "tests/engine/counting_allocator.h"
 #include "tests/engine/realtime/live_scene.h"
+#include "engine/tools/needle.h"
 
 namespace ps {
 namespace {
@@ -64,9 +65,9 @@ Command fill(int64_t tick, CommandKind kind, int component, double value, double
   Command c;
   c.tick = tick;
   c.kind = kind;
-  c.component = component;
-  c.value = value;
-  c.duration = duration;
+  c.fill.component = component;
+  c.fill.value = value;
+  c.fill.duration = duration;
   return c;
 }
 
@@ -91,15 +92,15 @@ Extra extra_commands(const Scene& sc) {
   Command pm;
   pm.tick = 150;
   pm.kind = CommandKind::ProbeMove;
-  pm.insertion = 0.056;
-  pm.tilt = 2.0 * 3.141592653589793 / 180.0;
-  pm.duration = 1e-3;
+  pm.probe.insertion = 0.056;
+  pm.probe.tilt = 2.0 * 3.141592653589793 / 180.0;
+  pm.probe.duration = 1e-3;
   e.cmds.push_back(pm);
   e.adjusted_commands += 1;
   // refused: a tilt of 60 degrees, the prostate (not filled), a NaN target, a negative duration
   Command tilt = pm;
   tilt.tick = 160;
-  tilt.tilt = 60.0 * 3.141592653589793 / 180.0;
+  tilt.probe.tilt = 60.0 * 3.141592653589793 / 180.0;
   e.cmds.push_back(tilt);
   e.cmds.push_back(fill(170, CommandKind::FillRate, prostate, 1e-6));
   e.cmds.push_back(fill(171, CommandKind::FillTo, bladder, std::nan(""), 0.1));
@@ -108,14 +109,14 @@ Extra extra_commands(const Scene& sc) {
   Command gun;
   gun.tick = 173;
   gun.kind = CommandKind::FireGun;
-  gun.tool = static_cast<int16_t>(sc.needle_tool);
+  gun.tool = static_cast<int16_t>(sc.tools.index<NeedleTool>());
   gun.item = 1;
   e.cmds.push_back(gun);
   Command aim = gun;
   aim.tick = 174;
   aim.kind = CommandKind::NeedleAim;
   aim.item = 0;
-  aim.pos[0] = std::nan("");
+  aim.needle.pos[0] = std::nan("");
   e.cmds.push_back(aim);
   e.refused = 6;
   return e;
@@ -129,22 +130,22 @@ Command queue_command(const Scene& sc, int64_t t) {
     c = fill(t, CommandKind::FillTo, sc.model->find_component("bladder"), 1.5 * bladder_rest(sc), 0.2);  // within limits
   } else if (t == 450) {
     c.kind = CommandKind::ProbeMove;
-    c.insertion = 0.051;
-    c.duration = 0.05;
+    c.probe.insertion = 0.051;
+    c.probe.duration = 0.05;
   } else if (t == 500) {
     c.kind = CommandKind::NeedleRelease;
-    c.tool = static_cast<int16_t>(sc.needle_tool);
+    c.tool = static_cast<int16_t>(sc.tools.index<NeedleTool>());
     c.item = 0;
   } else {
     c.kind = CommandKind::NeedleAdvance;
-    c.tool = static_cast<int16_t>(sc.needle_tool);
+    c.tool = static_cast<int16_t>(sc.tools.index<NeedleTool>());
     c.item = 1;
-    c.value = -0.01;
+    c.needle.speed = -0.01;
   }
   return c;
 }
 
-const FillingTool& filling_of(const Scene& sc) { return static_cast<const FillingTool&>(*sc.sim->tools()[sc.filling_tool]); }
+const FillingTool& filling_of(const Scene& sc) { return *sc.tools.as<FillingTool>(); }
 const ProbeTool& probe_of(const Scene& sc) {
   for (const auto& t : sc.sim->tools())
     if (const auto* p = dynamic_cast<const ProbeTool*>(t.get())) return *p;

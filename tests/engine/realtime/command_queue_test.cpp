@@ -20,10 +20,10 @@ Command probe_move(int64_t tick, double offset_y, double tilt, double duration) 
   Command c;
   c.kind = CommandKind::ProbeMove;
   c.tick = tick;
-  c.insertion = 0.050;  // the scene's
-  c.offset[1] = offset_y;
-  c.tilt = tilt;
-  c.duration = duration;
+  c.probe.insertion = 0.050;  // the scene's
+  c.probe.offset[1] = offset_y;
+  c.probe.tilt = tilt;
+  c.probe.duration = duration;
   return c;
 }
 
@@ -66,14 +66,14 @@ std::vector<Command> script(const Model& m) {
   Command r;
   r.kind = CommandKind::FillRate;
   r.tick = 21;  // same tick as a probe move
-  r.component = bladder;
-  r.value = 200e-6;  // 200 ml/s (the scene allows 1000)
+  r.fill.component = bladder;
+  r.fill.value = 200e-6;  // 200 ml/s (the scene allows 1000)
   Command t;
   t.kind = CommandKind::FillTo;
   t.tick = 41;
-  t.component = bladder;
-  t.value = 1.3 * m.surfaces[m.components[bladder].surface].rest_volume;
-  t.duration = 0.01;
+  t.fill.component = bladder;
+  t.fill.value = 1.3 * m.surfaces[m.components[bladder].surface].rest_volume;
+  t.fill.duration = 0.01;
   std::vector<Command> out;
   for (const Command& c : cmds) {  // keep stamps non-decreasing
     if (c.tick == 21) out.push_back(r);
@@ -139,8 +139,8 @@ TEST(CommandQueue, LateAndRefusedCommandsAreCountedAndReportedNotFatal) {
   ASSERT_TRUE(q.push(probe_move(0, 0.001, 60 * 3.14159265358979 / 180, 0.01)));  // tilt beyond 45 deg
   Command bad;
   bad.kind = CommandKind::FillTo;
-  bad.component = s.m->find_component("prostate");  // not a filled organ
-  bad.value = 1e-6;
+  bad.fill.component = s.m->find_component("prostate");  // not a filled organ
+  bad.fill.value = 1e-6;
   ASSERT_TRUE(q.push(bad));
   ASSERT_TRUE(q.push(probe_move(1, 0.002, 0.0, 0.01)));
   Command past = probe_move(0, 0.001, 0.0, 0.01);

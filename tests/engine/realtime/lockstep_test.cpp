@@ -13,6 +13,8 @@
 #include "engine/realtime/script.h"
 #include "engine/tools/needle.h"
 #include "tests/engine/realtime/live_scene.h"
+#include "engine/tools/probe.h"
+#include "engine/tools/filling.h"
 
 namespace ps {
 namespace {
@@ -109,9 +111,9 @@ TEST(Lockstep, SaveRestoreReproducesTheBitsAndTheHashCoversToolState) {
   EXPECT_EQ(hash_state(a.sim->state()), hash_state(b.sim->state()));
   Command c;
   c.kind = CommandKind::NeedleRotate;
-  c.tool = static_cast<int16_t>(b.needle_tool);
+  c.tool = static_cast<int16_t>(b.tools.index<NeedleTool>());
   c.item = 0;
-  c.value = 0.5;
+  c.needle.angle = 0.5;
   CommandApplier ap(*b.sim);
   ASSERT_TRUE(ap.apply(c, 0));
   EXPECT_EQ(hash_state(a.sim->state()), hash_state(b.sim->state()));  // the old hash does not see it
@@ -143,7 +145,7 @@ TEST(Lockstep, SnapshotCarriesPositionsReadoutsAndRefusals) {
   LockstepRunner run(*sc.sim);
   Command bad;
   bad.kind = CommandKind::FireGun;
-  bad.tool = static_cast<int16_t>(sc.needle_tool);
+  bad.tool = static_cast<int16_t>(sc.tools.index<NeedleTool>());
   bad.item = 1;  // the seeder has no gun
   ASSERT_TRUE(run.queue().push(bad));
   ASSERT_TRUE(run.advance_to(2));
@@ -153,10 +155,10 @@ TEST(Lockstep, SnapshotCarriesPositionsReadoutsAndRefusals) {
   ASSERT_EQ(s.x.size(), 3 * sc.sim->state().x.size());
   EXPECT_EQ(s.x[0], static_cast<float>(sc.sim->state().x[0].x()));
   ASSERT_EQ(s.tools.size(), sc.sim->tools().size());
-  EXPECT_EQ(s.tools[sc.needle_tool].kind, ToolReadout::Needle);
-  EXPECT_STREQ(s.tools[sc.needle_tool].name.data(), "gun");
-  EXPECT_EQ(s.tools[sc.probe_tool].kind, ToolReadout::Probe);
-  EXPECT_EQ(s.tools[sc.filling_tool].kind, ToolReadout::Filling);
+  EXPECT_EQ(s.tools[sc.tools.index<NeedleTool>()].kind, ToolReadout::Needle);
+  EXPECT_STREQ(s.tools[sc.tools.index<NeedleTool>()].name.data(), "gun");
+  EXPECT_EQ(s.tools[sc.tools.index<ProbeTool>()].kind, ToolReadout::Probe);
+  EXPECT_EQ(s.tools[sc.tools.index<FillingTool>()].kind, ToolReadout::Filling);
   EXPECT_EQ(s.state_hash, sc.sim->hash());
   ASSERT_EQ(s.events.size(), 1u);
   EXPECT_EQ(s.events[0].kind, kSnapshotEventRefused);

@@ -156,9 +156,9 @@ TEST(PhysicsLoop, AReaderThatSkipsSnapshotsMeetsEveryEventOnceInOrder) {
     Command c;  // refused: a tilt beyond the probe's 45 degrees
     c.kind = CommandKind::ProbeMove;
     c.tick = loop.next_tick();
-    c.insertion = 0.05;
-    c.tilt = 1.0;  // [rad]
-    c.duration = 0.01;
+    c.probe.insertion = 0.05;
+    c.probe.tilt = 1.0;  // [rad]
+    c.probe.duration = 0.01;
     loop.queue().push(c);
     loop.single_step(1);
     loop.wait_for_tick(k + 1);

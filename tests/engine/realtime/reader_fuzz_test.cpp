@@ -81,8 +81,8 @@ std::vector<std::string> recording_seeds() {
   Command c;
   for (int k = 0; k < 6; ++k) {
     c.tick = 3 * k;
-    c.insertion = 0.01 * k;
-    c.value = 1e-6 * k;
+    c.probe.insertion = 0.01 * k;
+    c.probe.duration = 1e-6 * k;
     text += format_command_line(c) + "\n";
   }
   // version 2: hash_every, periodic hashes, a fault line

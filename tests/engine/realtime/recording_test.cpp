@@ -12,6 +12,7 @@
 #include "engine/realtime/physics_loop.h"
 #include "engine/util/error.h"
 #include "tests/engine/realtime/live_scene.h"
+#include "engine/tools/needle.h"
 
 namespace ps {
 namespace {
@@ -46,9 +47,9 @@ TEST(Recording, LiveThreadedRunRecordedThenReplayedGivesTheSameHash) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     Command c;
     c.kind = CommandKind::NeedleRotate;
-    c.tool = static_cast<int16_t>(sc.needle_tool);
+    c.tool = static_cast<int16_t>(sc.tools.index<NeedleTool>());
     c.item = 0;
-    c.value = 0.25;
+    c.needle.angle = 0.25;
     c.tick = loop.next_tick();
     ASSERT_TRUE(loop.queue().push(c));
     loop.wait_for_tick(kTicks);
@@ -78,35 +79,69 @@ TEST(Recording, LiveThreadedRunRecordedThenReplayedGivesTheSameHash) {
 }
 
 TEST(Recording, CommandLinesRoundTripEveryBit) {
-  Command c;
-  c.kind = CommandKind::NeedleAim;
-  c.tick = 123456789;
-  c.tool = 2;
-  c.item = 7;
-  c.component = 3;
-  c.col = 4;
-  c.row = 11;
-  c.insertion = 0.1 + 0.2;
-  c.offset[1] = -1.0 / 3.0;
-  c.value = 5e-324;   // the smallest subnormal
-  c.pos[2] = 3.141592653589793;
-  c.dir[0] = -0.0;
-  const std::string text = std::string("prostatesim-recording 1\nprogram ") + kProgramVersion +
-                           "\nscenario s\nscenario_hash 0123456789abcdef\ndt 0.001\nsubsteps 2\n" + format_command_line(c) + "\n";
+  // one command of each payload, with values whose text must keep every bit
+  Command probe;
+  probe.kind = CommandKind::ProbeMove;
+  probe.tick = 123456789;
+  probe.tool = 2;
+  probe.probe.insertion = 0.1 + 0.2;
+  probe.probe.offset[1] = -1.0 / 3.0;
+  probe.probe.yaw = -0.0;
+  probe.probe.duration = 1e-300;
+  Command fill;
+  fill.kind = CommandKind::FillTo;
+  fill.tick = 123456790;
+  fill.tool = 1;
+  fill.fill.component = 3;
+  fill.fill.value = 5e-324;  // the smallest subnormal
+  fill.fill.duration = 0.7;
+  Command aim;
+  aim.kind = CommandKind::NeedleAim;
+  aim.tick = 123456791;
+  aim.item = 7;
+  aim.needle.pos[2] = 3.141592653589793;
+  aim.needle.dir[0] = -0.0;
+  aim.needle.speed = -2.5e-3;
+  Command depth;
+  depth.kind = CommandKind::NeedleDepth;
+  depth.tick = 123456792;
+  depth.needle.depth = 0.0417;
+  depth.needle.speed = 0.02;
+  Command hole;
+  hole.kind = CommandKind::SelectHole;
+  hole.tick = 123456793;
+  hole.needle.col = 4;
+  hole.needle.row = 11;
+  Command rotate;
+  rotate.kind = CommandKind::NeedleRotate;
+  rotate.tick = 123456794;
+  rotate.needle.angle = 1.0 / 7.0;
+  const Command in[] = {probe, fill, aim, depth, hole, rotate};
+  std::string text = std::string("prostatesim-recording 1\nprogram ") + kProgramVersion +
+                     "\nscenario s\nscenario_hash 0123456789abcdef\ndt 0.001\nsubsteps 2\n";
+  for (const Command& c : in) text += format_command_line(c) + "\n";
   const Recording r = parse_recording_text(text, "x.rec");
-  ASSERT_EQ(r.commands.size(), 1u);
-  const Command& d = r.commands[0];
-  EXPECT_EQ(d.kind, c.kind);
-  EXPECT_EQ(d.tick, c.tick);
-  EXPECT_EQ(d.tool, c.tool);
-  EXPECT_EQ(d.item, c.item);
-  EXPECT_EQ(d.col, c.col);
-  EXPECT_EQ(d.row, c.row);
-  EXPECT_EQ(std::memcmp(&d.insertion, &c.insertion, sizeof(double)), 0);
-  EXPECT_EQ(std::memcmp(d.offset, c.offset, sizeof c.offset), 0);
-  EXPECT_EQ(std::memcmp(&d.value, &c.value, sizeof(double)), 0);
-  EXPECT_EQ(std::memcmp(d.pos, c.pos, sizeof c.pos), 0);
-  EXPECT_EQ(std::memcmp(d.dir, c.dir, sizeof c.dir), 0);
+  ASSERT_EQ(r.commands.size(), 6u);
+  auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  for (size_t i = 0; i < 6; ++i) {
+    const Command &c = in[i], &d = r.commands[i];
+    EXPECT_EQ(d.kind, c.kind);
+    EXPECT_EQ(d.tick, c.tick);
+    EXPECT_EQ(d.tool, c.tool);
+    EXPECT_EQ(d.item, c.item);
+    EXPECT_TRUE(same(d.probe.insertion, c.probe.insertion) && same(d.probe.roll, c.probe.roll) && same(d.probe.tilt, c.probe.tilt) &&
+                same(d.probe.yaw, c.probe.yaw) && same(d.probe.duration, c.probe.duration))
+        << i;
+    for (int k = 0; k < 3; ++k)
+      EXPECT_TRUE(same(d.probe.offset[k], c.probe.offset[k]) && same(d.needle.pos[k], c.needle.pos[k]) &&
+                  same(d.needle.dir[k], c.needle.dir[k]))
+          << i;
+    EXPECT_EQ(d.fill.component, c.fill.component);
+    EXPECT_TRUE(same(d.fill.value, c.fill.value) && same(d.fill.duration, c.fill.duration)) << i;
+    EXPECT_TRUE(same(d.needle.speed, c.needle.speed) && same(d.needle.angle, c.needle.angle) && same(d.needle.depth, c.needle.depth)) << i;
+    EXPECT_EQ(d.needle.col, c.needle.col);
+    EXPECT_EQ(d.needle.row, c.needle.row);
+  }
   EXPECT_FALSE(r.complete);  // no end line: a run cut short
   EXPECT_EQ(r.header.scenario_hash, 0x0123456789abcdefull);
 }

@@ -100,8 +100,8 @@ class FloodSource final : public CommandSource {
     for (int i = 0; i < per_tick_; ++i) {
       Command c;
       c.kind = CommandKind::FillRate;
-      c.component = component_;
-      c.value = (50.0 + (tick + i) % 7) * 1e-6;  // [m^3/s]; the last one of a tick holds
+      c.fill.component = component_;
+      c.fill.value = (50.0 + (tick + i) % 7) * 1e-6;  // [m^3/s]; the last one of a tick holds
       apply.apply(c, tick);
     }
   }

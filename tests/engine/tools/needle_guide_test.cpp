@@ -35,8 +35,8 @@ struct Biopsy {
 
 Biopsy load_biopsy() {
   Biopsy b{load_scene(std::string(PROSTATESIM_SOURCE_DIR) + "/config/biopsy.yaml")};
-  b.needles = static_cast<NeedleTool*>(b.scene.sim->tools().at(b.scene.needle_tool).get());
-  b.probe = static_cast<ProbeTool*>(b.scene.sim->tools().at(b.scene.probe_tool).get());
+  b.needles = b.scene.tools.as<NeedleTool>();
+  b.probe = b.scene.tools.as<ProbeTool>();
   return b;
 }
 
@@ -44,8 +44,8 @@ void needle_depth(Biopsy& b, double depth, double speed) {
   Command c;
   c.kind = CommandKind::NeedleDepth;
   c.item = 0;
-  c.insertion = depth;
-  c.value = speed;
+  c.needle.depth = depth;
+  c.needle.speed = speed;
   CommandRefusal why;
   ASSERT_TRUE(b.needles->apply(c, b.m(), b.s(), why)) << why.text;
 }

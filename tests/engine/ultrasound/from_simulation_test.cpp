@@ -26,7 +26,7 @@ TEST(UltrasoundFromSnapshot, ProbeViewMatchesTheProbeToolAtSeveralRolls) {
     Scene scene = build_scene(spec);
     LockstepRunner run(*scene.sim);
     const Snapshot& snap = run.snapshot();
-    const auto* probe = dynamic_cast<const ProbeTool*>(scene.sim->tools()[scene.probe_tool].get());
+    const auto* probe = scene.tools.as<ProbeTool>();
     ASSERT_NE(probe, nullptr);
     const us::ProbeView truth = us::probe_view(probe->frame(), probe->spec().radius);
     us::ProbeView v;

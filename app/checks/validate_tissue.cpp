@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "app/validation.h"
+#include "app/checks/validation.h"
 #include "engine/util/error.h"
 #include "engine/util/sim_fault.h"
 #include "engine/io/output.h"

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "app/validation.h"
+#include "app/checks/validation.h"
 
 namespace ps::app {
 

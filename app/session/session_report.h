@@ -10,8 +10,8 @@
 #pragma once
 #include <vector>
 
-#include "app/report_chart.h"
-#include "app/session_views.h"
+#include "app/session/report_chart.h"
+#include "app/session/session_views.h"
 #include "engine/metrics/score.h"
 #include "engine/metrics/session_metrics.h"
 #include "engine/tools/needle_output.h"

@@ -1,4 +1,4 @@
-#include "app/report_chart.h"
+#include "app/session/report_chart.h"
 
 #include <algorithm>
 #include <cmath>

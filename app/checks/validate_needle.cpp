@@ -14,7 +14,7 @@
 // 0.1 N in the prostate. needles.puncture_n.fat sets the perineal peak, needles.puncture_n.prostate
 // (with the fat's k_c_n, k_f_n along the 45 mm of shaft in fat) the prostate peak, and the
 // perineal skin layer's young_kpa (scenario overrides) how far the skin tents before it breaks.
-#include "app/validate_needle.h"
+#include "app/checks/validate_needle.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Probe and filling displacement studies (issue 5) and their validation rows.
-#include "app/validate_probe.h"
+#include "app/checks/validate_probe.h"
 
 #include <cmath>
 #include <cstdio>

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "app/validation.h"
+#include "app/checks/validation.h"
 #include "engine/model/model.h"
 #include "engine/tools/displacement_field.h"
 

@@ -1,4 +1,4 @@
-#include "app/session_views.h"
+#include "app/session/session_views.h"
 
 #include <cmath>
 

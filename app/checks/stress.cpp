@@ -1,4 +1,4 @@
-#include "app/stress.h"
+#include "app/checks/stress.h"
 
 #include <algorithm>
 #include <chrono>
@@ -19,6 +19,7 @@
 #include "engine/tools/filling.h"
 #include "engine/tools/needle.h"
 #include "engine/tools/probe.h"
+#include "engine/tools/tool_kind.h"
 #include "engine/util/error.h"
 
 namespace ps::app {
@@ -46,9 +47,9 @@ Scene build(const ScenarioSpec& spec, std::shared_ptr<const Model> model = nullp
   Scene s;
   s.model = model ? model : compile_scenario(spec);
   s.sim = std::make_unique<Simulation>(s.model);
-  if (auto t = make_needle_tool(s.model, spec.needles)) s.sim->add_tool(std::move(t));
-  if (auto t = make_probe_tool(spec, *s.model)) { s.probe = t.get(); s.sim->add_tool(std::move(t)); }
-  if (auto t = make_filling_tool(spec, *s.model)) { s.filling = t.get(); s.sim->add_tool(std::move(t)); }
+  const ToolSet tools = add_scenario_tools(spec, s.model, *s.sim);  // every kind the scenario has, connected
+  s.probe = tools.as<ProbeTool>();
+  s.filling = tools.as<FillingTool>();
   return s;
 }
 
@@ -325,20 +326,20 @@ StressResult random_commands(const ScenarioSpec& spec, const StressOptions& opt,
       if (sc.probe && (kind < 6 || !sc.filling)) {
         const ProbePose& p = sc.probe->pose();
         c.kind = CommandKind::ProbeMove;
-        c.insertion = p.insertion + 0.02 * U(rng);
-        for (int a = 0; a < 3; ++a) c.offset[a] = p.offset[a] + 0.005 * U(rng);
-        c.roll = 0.6 * U(rng);
-        c.tilt = 0.6 * U(rng);
-        c.yaw = 0.6 * U(rng);
-        c.duration = 0.02 * (1 + U(rng));
-        if (kind == 0) c.tilt = std::nan("");   // must be refused, not applied
-        if (kind == 1) c.yaw = 2.0;             // beyond 45 degrees
+        c.probe.insertion = p.insertion + 0.02 * U(rng);
+        for (int a = 0; a < 3; ++a) c.probe.offset[a] = p.offset[a] + 0.005 * U(rng);
+        c.probe.roll = 0.6 * U(rng);
+        c.probe.tilt = 0.6 * U(rng);
+        c.probe.yaw = 0.6 * U(rng);
+        c.probe.duration = 0.02 * (1 + U(rng));
+        if (kind == 0) c.probe.tilt = std::nan("");   // must be refused, not applied
+        if (kind == 1) c.probe.yaw = 2.0;             // beyond 45 degrees
       } else {
         c.kind = kind % 2 ? CommandKind::FillRate : CommandKind::FillTo;
-        c.component = kind == 9 ? 12345 : organ;  // an unknown organ must be refused
-        c.value = c.kind == CommandKind::FillRate ? 2.0 * U(rng) * sc.filling->max_rate()
+        c.fill.component = kind == 9 ? 12345 : organ;  // an unknown organ must be refused
+        c.fill.value = c.kind == CommandKind::FillRate ? 2.0 * U(rng) * sc.filling->max_rate()
                                                   : sc.filling->target_volume(spec.filling->schedule[0].component) * (1 + 0.1 * U(rng));
-        c.duration = 0.05;
+        c.fill.duration = 0.05;
       }
       if (queue.push(c)) ++pushed;
     }

@@ -1,4 +1,4 @@
-#include "app/validate_indentation.h"
+#include "app/checks/validate_indentation.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "app/session_report.h"
+#include "app/session/session_report.h"
 
 #include <algorithm>
 #include <cmath>

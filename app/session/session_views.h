@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "app/report_chart.h"
+#include "app/session/report_chart.h"
 #include "engine/contract/snapshot.h"
 #include "engine/metrics/session_metrics.h"
 #include "engine/sim/scene.h"

@@ -3,7 +3,7 @@
 // (engine/dosimetry/tg43_check.h): the I-125 model 6711 along-away dose rates at 0.5-7 cm, 0-90
 // degrees (one row per point, tolerance 2 %), and the consensus 1-D anisotropy factor
 // phi_an(r) at 0.5-5 cm (2 %). Values are reported as ratios to the reference (1 = exact).
-#include "app/validate_dosimetry.h"
+#include "app/checks/validate_dosimetry.h"
 
 #include "engine/dosimetry/tg43_check.h"
 

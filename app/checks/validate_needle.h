@@ -2,7 +2,7 @@
 #pragma once
 #include <vector>
 
-#include "app/validation.h"
+#include "app/checks/validation.h"
 
 namespace ps::app {
 

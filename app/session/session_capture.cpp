@@ -1,11 +1,11 @@
-#include "app/session_capture.h"
+#include "app/session/session_capture.h"
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 
-#include "app/session_report.h"
-#include "app/session_views.h"
+#include "app/session/session_report.h"
+#include "app/session/session_views.h"
 #include "engine/tools/probe.h"
 #include "engine/ultrasound/from_simulation.h"
 #include "engine/io/png_write.h"
@@ -13,21 +13,22 @@
 #include "engine/metrics/metrics_options.h"
 #include "engine/util/atomic_file.h"
 #include "engine/util/error.h"
+#include "engine/tools/needle.h"
 
 namespace ps::app {
 
 namespace {
-const NeedleTool& needle_tool_of(const Scene& s) { return static_cast<const NeedleTool&>(*s.sim->tools().at(s.needle_tool)); }
+const NeedleTool& needle_tool_of(const Scene& s) { return *s.tools.as<NeedleTool>(); }
 }  // namespace
 
 std::unique_ptr<SessionCapture> SessionCapture::make(const Scene& scene) {
-  if (scene.needle_tool < 0) return nullptr;
+  if (!scene.tools.has<NeedleTool>()) return nullptr;
   return std::unique_ptr<SessionCapture>(new SessionCapture(scene));
 }
 
 SessionCapture::SessionCapture(const Scene& scene) : scene_(scene), needles_(needle_tool_of(scene)) {
   gland_ = scene.model->find_component("prostate");
-  if (scene.probe_tool >= 0)
+  if (scene.tools.has<ProbeTool>())
     for (Shot& sh : shots_) snapshot_of(*scene.sim, sh.snap);  // sizes the buffers once
   rewind();
 }
@@ -42,8 +43,8 @@ void SessionCapture::rewind() {
 void SessionCapture::after_tick(int64_t, const Simulation& sim) {
   rec_->sample(needles_, sim.state().time);
   metrics_->observe(needles_, sim.state());
-  if (scene_.probe_tool >= 0)
-    metrics_->observe_probe(static_cast<const ProbeTool&>(*sim.tools().at(scene_.probe_tool)).reaction_force().norm(),
+  if (scene_.tools.has<ProbeTool>())
+    metrics_->observe_probe(scene_.tools.as<ProbeTool>()->reaction_force().norm(),
                             scene_.model->dt);
   // one picture per tick at most: the first puncture or core of this tick; a puncture of the
   // gland or a core replaces an earlier puncture of another organ (the route) once the slots are full
@@ -55,7 +56,7 @@ void SessionCapture::after_tick(int64_t, const Simulation& sim) {
     const bool k = core || gland_ < 0 || e.component == gland_;
     if (!ev || (k && !key)) { ev = &e; key = k; }
   });
-  if (!ev || scene_.probe_tool < 0) return;
+  if (!ev || !scene_.tools.has<ProbeTool>()) return;
   int slot = shots_used_ < kPunctureShots ? shots_used_ : -1;
   if (slot < 0 && key)
     for (int k = 0; k < kPunctureShots && slot < 0; ++k)
@@ -64,7 +65,7 @@ void SessionCapture::after_tick(int64_t, const Simulation& sim) {
   if (slot == shots_used_) ++shots_used_;
   Shot& sh = shots_[static_cast<size_t>(slot)];
   snapshot_of(sim, sh.snap);
-  const auto& probe = static_cast<const ProbeTool&>(*sim.tools().at(scene_.probe_tool));
+  const auto& probe = *scene_.tools.as<ProbeTool>();
   sh.probe = us::probe_view(probe.frame(), probe.spec().radius);
   sh.time = ev->time;
   sh.depth = ev->depth;
@@ -94,8 +95,8 @@ Score SessionCapture::write(const std::string& dir, bool faulted, const std::str
   Snapshot end;
   snapshot_of(*scene_.sim, end);
   views.view3d = render_3d_view(scene_, end, r, 800, 600, views.note3d);
-  if (scene_.probe_tool < 0 && scene_.spec.probe) views.note_us = "the probe is not simulated in this run (insert: needles only)";
-  else if (scene_.probe_tool < 0) views.note_us = "no probe in this scenario: no ultrasound image";
+  if (!scene_.tools.has<ProbeTool>() && scene_.spec.probe) views.note_us = "the probe is not simulated in this run (insert: needles only)";
+  else if (!scene_.tools.has<ProbeTool>()) views.note_us = "no probe in this scenario: no ultrasound image";
   else if (shots_used_ == 0) views.note_us = "no puncture and no core in this session";
   // in time order (a replaced slot may hold a later event than the next one)
   std::array<int, kPunctureShots> order{};

@@ -1,11 +1,11 @@
-#include "app/validation.h"
+#include "app/checks/validation.h"
 
 #include <cmath>
 
-#include "app/validate_dosimetry.h"
-#include "app/validate_indentation.h"
-#include "app/validate_needle.h"
-#include "app/validate_probe.h"
+#include "app/checks/validate_dosimetry.h"
+#include "app/checks/validate_indentation.h"
+#include "app/checks/validate_needle.h"
+#include "app/checks/validate_probe.h"
 
 namespace ps::app {
 

@@ -1,0 +1,15 @@
+// The filling's read-out: the target volume of the organ being filled (bladder_filling.yaml).
+#include <imgui.h>
+
+#include "app/gui/session.h"
+#include "app/gui/tool_panels.h"
+
+namespace ps::gui {
+
+void filling_readouts(Session&, const Snapshot& snap, ToolPanelState&) {
+  for (const ToolReadout& r : snap.tools)
+    if (r.kind == ToolReadout::Filling && ImGui::CollapsingHeader("Filling", ImGuiTreeNodeFlags_DefaultOpen))
+      ImGui::Text("target volume of the filled organ %.1f ml", r.value * 1e6);
+}
+
+}  // namespace ps::gui
