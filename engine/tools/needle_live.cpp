@@ -170,11 +170,11 @@ bool NeedleTool::apply(const Command& c, const Model& m, const State& s, Command
       return true;
     }
     case CommandKind::NeedleRotate:
-      if (!std::isfinite(c.needle.speed)) {
+      if (!std::isfinite(c.needle.angle)) {
         why.set("needle rotation is not finite");
         return false;
       }
-      nd.hub_roll = c.needle.speed;
+      nd.hub_roll = c.needle.angle;
       return true;
     case CommandKind::NeedleRelease:
       if (nd.guided && nd.spec.script.empty()) {  // no script to go back to: held where it is in the guide
