@@ -151,14 +151,13 @@ def solve(centre, tilt, yaw, offset):
 
 
 def aim(centre):
-    """The pose (roll, tilt, yaw [deg], offset [mm], insertion [mm]) and needle depth before firing
-    [mm] that put the notch on centre, with the probe inside the rectal lumen as far as the site
-    allows. A 25-degree guide on a probe lying along the lumen meets the posterior surface of the
+    """The pose (roll, tilt, yaw [deg], offset [mm], insertion [mm]), the needle depth before firing
+    [mm] that put the notch on centre, and how far [mm] the probe then reaches past the rectal lumen
+    at rest: the probe inside the lumen as far as the site allows. A 25-degree guide on a probe lying along the lumen meets the posterior surface of the
     gland at mid-gland and base; the apex (and the lateral mid-gland) is reached by tilting the
-    probe's tip anteriorly (and yawing it toward the site's side), which steepens the needle, with
-    the probe's back end kept off the lumen's closed lower end (a probe pulled back that far presses
-    it). Of the poses the one whose probe reaches least past the lumen, then the least tilted and
-    shifted (0.1 mm of excess weighs as 1 degree or 1 mm)."""
+    probe's tip anteriorly (and yawing it toward the site's side), which steepens the needle; pulled
+    back instead, the probe's back end would press deep into the lumen's closed lower end. Of the poses the one whose probe reaches least past the lumen, then the least tilted and
+    shifted (a degree of tilt or a millimetre of offset weighs as 0.01 mm of excess)."""
     best = None
     for phi in range(0, MAX_TILT_DEG + 1):
         for side in ((0.0,) if phi == 0 else (-45.0, -30.0, -15.0, 0.0, 15.0, 30.0, 45.0)):
