@@ -28,6 +28,7 @@
 #include "app/progress.h"
 #include "app/checks/validation.h"
 #include "engine/io/png_write.h"
+#include "engine/model/role.h"
 #include "engine/realtime/scripted_run.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/material_models.h"
@@ -354,7 +355,7 @@ void add_bench_command(CLI::App& app, Runner& run) {
       std::string ship_model = "paper";
       double ship_spacing = 6;
       for (const auto& c : biopsy.components)
-        if (c.name == "prostate") {
+        if (resolve_role(c.role, c.name, c.kind == "rigid") == Role::Prostate) {
           ship_spacing = c.spacing * 1e3;
           for (const auto& m : biopsy.materials)
             if (m.name == c.material) ship_model = material_model(m.model).name;

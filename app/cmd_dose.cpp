@@ -95,7 +95,7 @@ void add_plan_command(CLI::App& app, Runner& run) {
       const Scene scene = load_scene(a->scenario);
       if (!scene.tools.has<ProbeTool>()) throw InputError(a->scenario, 0, "probe", "the scenario has no probe (the template rides on its stepper)");
       const auto& probe = *scene.tools.as<ProbeTool>();
-      const MetricsOptions mo = metrics_options_for(scene.spec);
+      const MetricsOptions mo = metrics_options_for(scene.spec, *scene.model);
       DosimetryOptions opt;
       opt.isotope = a->isotope;
       opt.prescription_gy = a->prescription_gy;

@@ -74,7 +74,7 @@ void add_simulate_command(CLI::App& app, Runner& run) {
                   spec.name.c_str(), static_cast<long long>(r.steps), r.sim_time, r.wall_time, r.kinetic_energy, r.max_speed);
       for (const auto& [c, e] : r.volume_error) std::printf("  volume error %-12s %.3g\n", c.c_str(), e);
       for (const auto& w : r.warnings) std::printf("  warning: %s\n", w.c_str());
-      if (const int pc = model->find_component("prostate"); pc >= 0) {
+      if (const int pc = model->find_role(Role::Prostate); pc >= 0) {
         const DisplacementStats d = displacement_stats(*model, pc, start, sim.state().x, Vec3::UnitZ());
         std::printf("  prostate displacement: mean %.3f mm, max %.3f mm; mean per zone: base %.3f, mid %.3f, apex %.3f mm\n",
                     d.all.mean * 1e3, d.all.max * 1e3, d.base.mean * 1e3, d.mid.mean * 1e3, d.apex.mean * 1e3);

@@ -59,7 +59,7 @@ int fast_error(const std::string& scene, int substeps, int mass_scaling, int tri
   auto fast_model = compile_scenario(fast_spec);
   if (!ref_file.empty()) {
     // the per-particle comparison needs the prostate's particles where the fast run has them
-    const int pr = ref_model->find_component("prostate"), pf = fast_model->find_component("prostate");
+    const int pr = ref_model->find_role(ps::Role::Prostate), pf = fast_model->find_role(ps::Role::Prostate);
     if (pr < 0 || pf < 0 || ref_model->components[pr].first_particle != fast_model->components[pf].first_particle ||
         ref_model->components[pr].particle_count != fast_model->components[pf].particle_count) {
       std::fprintf(stderr, "%s: the prostate's particles differ from config/%s.yaml's\n", ref_file.c_str(), scene.c_str());

@@ -8,8 +8,10 @@
 #include <pybind11/stl.h>
 #include <yaml-cpp/yaml.h>
 
+#include <map>
 #include <stdexcept>
 
+#include "engine/model/role.h"
 #include "engine/realtime/recording.h"
 #include "engine/util/error.h"
 #include "python/session.h"
@@ -189,6 +191,24 @@ PYBIND11_MODULE(prostatesim, m) {
             return n;
           },
           "component names, by index")
+      .def(
+          "component_roles",
+          [](const Session& s) {
+            std::vector<std::string> r;
+            for (const auto& c : s.model().components) r.push_back(ps::role_word(c.role));
+            return r;
+          },
+          "component roles ('prostate', 'bladder', 'lesion', ..., 'other'), by index: the scenario's "
+          "`role:`, else the default of the name")
+      .def(
+          "tag_roles",
+          [](const Session& s) {
+            std::map<std::string, std::string> r;
+            const ps::Model& mo = s.model();
+            for (size_t t = 0; t < mo.tag_names.size(); ++t) r[mo.tag_names[t]] = ps::role_word(mo.tag_role(static_cast<int>(t)));
+            return r;
+          },
+          "role of each particle tag, by tag name ('lesion' for lesions, 'other' for zones)")
       .def(
           "tagged",
           [](const Session& s, const std::string& tag) {

@@ -22,7 +22,7 @@ class Session::MetricsFeed final : public CommandSource {
   }
   void poll(int64_t, const Simulation&, CommandApplier&) override {}
   void after_tick(int64_t, const Simulation& sim) override { metrics_->observe(needles_, sim.state()); }
-  void rewind() override { metrics_ = std::make_unique<SessionMetrics>(*scene_.model, needles_, metrics_options_for(scene_.spec)); }
+  void rewind() override { metrics_ = std::make_unique<SessionMetrics>(*scene_.model, needles_, metrics_options_for(scene_.spec, *scene_.model)); }
   std::string json(bool faulted) const {
     const SessionReport r = metrics_->finish(needles_, scene_.sim->state(), faulted);
     return ps::metrics_json(r, score_session(r), {});

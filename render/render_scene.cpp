@@ -2,12 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "engine/model/model.h"
-#include "engine/util/error.h"
 
 namespace ps::render {
 
@@ -15,15 +11,16 @@ namespace {
 bool contains(const std::string& s, const char* w) { return s.find(w) != std::string::npos; }
 }  // namespace
 
-OrganKind organ_kind(const std::string& n0) {
-  std::string n = n0;
-  std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (contains(n, "prostat")) return OrganKind::Prostate;
-  if (contains(n, "bladder")) return OrganKind::Bladder;
-  if (contains(n, "rect")) return OrganKind::Rectum;
-  if (contains(n, "fat") || contains(n, "skin")) return OrganKind::Fat;
-  if (contains(n, "bone") || contains(n, "pubi") || contains(n, "pelv") || contains(n, "arch")) return OrganKind::Bone;
-  return OrganKind::Other;
+OrganKind organ_kind(Role role) {
+  switch (role) {
+    case Role::Prostate: return OrganKind::Prostate;
+    case Role::Bladder: return OrganKind::Bladder;
+    case Role::Rectum: return OrganKind::Rectum;
+    case Role::Fat:
+    case Role::Skin: return OrganKind::Fat;
+    case Role::Bone: return OrganKind::Bone;
+    default: return OrganKind::Other;
+  }
 }
 
 // Colours after anatomical atlases (prostate: pink-red gland, bladder: pale straw, rectum:
@@ -42,33 +39,7 @@ Rgba organ_colour(OrganKind k) {
   return {};
 }
 
-std::string urethra_file_beside(const std::string& mesh) {
-  if (mesh.empty()) return {};
-  const auto p = std::filesystem::path(mesh).parent_path() / "urethra.csv";
-  std::error_code ec;
-  return std::filesystem::is_regular_file(p, ec) ? p.string() : std::string();
-}
-
-static std::vector<Vec3> read_polyline_mm(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file, 0, "urethra", "cannot read the urethra polyline");
-  std::vector<Vec3> pts;
-  std::string line;
-  int ln = 0;
-  while (std::getline(in, line)) {
-    ++ln;
-    if (line.empty() || line[0] == '#' || std::isalpha(static_cast<unsigned char>(line[0]))) continue;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream ss(line);
-    double x, y, z;
-    if (!(ss >> x >> y >> z) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
-      throw InputError(file, ln, "urethra", "expected x_mm,y_mm,z_mm");
-    pts.emplace_back(x * 1e-3, y * 1e-3, z * 1e-3);
-  }
-  return pts;
-}
-
-RenderScene make_render_scene(const Model& m, const std::string& urethra_csv) {
+RenderScene make_render_scene(const Model& m) {
   RenderScene sc;
   sc.name = m.name;
   sc.particle_count = m.particle_count();
@@ -80,7 +51,7 @@ RenderScene make_render_scene(const Model& m, const std::string& urethra_csv) {
     if (s.component < 0) continue;
     RenderSurface rs;
     rs.name = m.components[s.component].name;
-    rs.kind = organ_kind(rs.name);
+    rs.kind = organ_kind(m.components[s.component].role);
     rs.colour = organ_colour(rs.kind);
     rs.particles = s.vertices;
     std::vector<int> local(m.particle_count(), -1);
@@ -97,8 +68,8 @@ RenderScene make_render_scene(const Model& m, const std::string& urethra_csv) {
   // tags: lesions / tumours red-purple, targets green
   for (size_t t = 0; t < m.tag_names.size() && !m.particle_tags.empty(); ++t) {
     const std::string& n = m.tag_names[t];
-    const bool lesion = contains(n, "lesion") || contains(n, "tumo");
-    const bool target = contains(n, "target");
+    const bool lesion = m.tag_role(static_cast<int>(t)) == Role::Lesion;
+    const bool target = !lesion && contains(n, "target");  // a zone to aim at, drawn, not an organ
     if (!lesion && !target) continue;
     RenderMarkers mk;
     mk.name = n;
@@ -116,7 +87,7 @@ RenderScene make_render_scene(const Model& m, const std::string& urethra_csv) {
     if (!mk.particles.empty()) sc.markers.push_back(std::move(mk));
   }
 
-  const int pc = m.find_component("prostate");
+  const int pc = m.find_role(Role::Prostate);
   Vec3 lo = Vec3::Constant(1e9), hi = Vec3::Constant(-1e9);
   const int fc = pc >= 0 ? pc : -1;
   for (int p = 0; p < m.particle_count(); ++p) {
@@ -130,8 +101,8 @@ RenderScene make_render_scene(const Model& m, const std::string& urethra_csv) {
     sc.extent = std::max(0.01, (fc >= 0 ? 2.2 : 0.6) * 0.5 * (hi - lo).norm());
   }
 
-  if (!urethra_csv.empty() && pc >= 0) {
-    const std::vector<Vec3> pts = read_polyline_mm(urethra_csv);
+  if (m.urethra.size() >= 2 && pc >= 0) {
+    const std::vector<Vec3>& pts = m.urethra;
     const Component& c = m.components[pc];
     RenderTube tube;
     tube.name = "urethra";

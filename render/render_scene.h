@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/draw/draw_sink.h"
+#include "engine/model/role.h"
 #include "engine/util/vec.h"
 
 namespace ps {
@@ -59,15 +60,15 @@ struct RenderScene {
   int particle_count = 0;
 };
 
-// Style by organ name (prostate, bladder, rectum, fat, bone / pubic / pelvis...).
-OrganKind organ_kind(const std::string& component_name);
+// Style by the component's role (Component::role): prostate, bladder, rectum; fat and skin are
+// drawn as fat; bone; anything else (urethra, lesion, gas, other) as Other.
+OrganKind organ_kind(Role role);
 Rgba organ_colour(OrganKind k);
 
-// Builds the scene description. `urethra_csv` (may be empty): a polyline file (x_mm,y_mm,z_mm
-// rows, `#` comments, a header line) bound to the prostate; throws ps::InputError on a bad file.
-RenderScene make_render_scene(const Model& model, const std::string& urethra_csv = "");
+// Builds the scene description. Lesion markers are the tags whose role is lesion; the urethra
+// tube is the Model's centre line (Model::urethra, placed like the prostate's mesh at compile)
+// bound to the first component whose role is prostate.
+RenderScene make_render_scene(const Model& model);
 
-// Path of the anatomy's urethra.csv beside the prostate mesh of a scenario, "" if none.
-std::string urethra_file_beside(const std::string& prostate_mesh_file);
 
 }  // namespace ps::render

@@ -170,9 +170,9 @@ StressResult stiff_inclusion(const ScenarioSpec& spec, const StressOptions& opt,
   StressResult r{spec.name, fmt("stiff_inclusion_%g", ratio)};
   // A lesion-like inclusion in the prostate where the scene has one, else in the largest elastic
   // component (a bone-like inclusion in soft fat).
-  int best = m0.find_component("prostate");
+  int best = m0.find_role(Role::Prostate);
   if (best >= 0 && m0.components[best].kind != ComponentKind::Elastic) best = -1;
-  for (size_t c = 0; c < m0.components.size() && m0.find_component("prostate") < 0; ++c)
+  for (size_t c = 0; c < m0.components.size() && m0.find_role(Role::Prostate) < 0; ++c)
     if (m0.components[c].kind == ComponentKind::Elastic &&
         (best < 0 || m0.components[c].particle_count > m0.components[best].particle_count))
       best = static_cast<int>(c);

@@ -106,7 +106,7 @@ struct BrachyAnswer {
 
 BrachyAnswer brachytherapy_answer(const std::string& scenario) {
   const NeedleRun run = run_needle_scenario(scenario, "posterior", true);
-  const int fat = run.model->find_component("fat"), prostate = run.model->find_component("prostate");
+  const int fat = run.model->find_role(Role::Fat), prostate = run.model->find_role(Role::Prostate);
   BrachyAnswer a;
   double t_skin = kNaN, t_capsule = kNaN;
   for (const auto& e : run.events) {

@@ -63,7 +63,7 @@ DisplacementStudy run_displacement_study(const std::string& source_dir, const st
     filling = f.get();
     sim.add_tool(std::move(f));
   }
-  const int pc = m.find_component("prostate"), bc = m.find_component("bladder");
+  const int pc = m.find_role(Role::Prostate), bc = m.find_role(Role::Bladder);
   const Surface& ps_ = m.surfaces[m.components[pc].surface];
   const Surface& bs = m.surfaces[m.components[bc].surface];
   auto tick = [&] {

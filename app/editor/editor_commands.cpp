@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "engine/model/role.h"
 #include "engine/tools/probe_geometry.h"
 #include "engine/util/error.h"
 
@@ -25,7 +26,6 @@ EditResult refused(const std::string& field, const std::string& msg) {
   return r;
 }
 
-bool is_lesion(const std::string& n) { return n.find("lesion") != std::string::npos || n.find("tumo") != std::string::npos; }
 
 const char* shape_key(RegionSpec::Kind k) {
   switch (k) {
@@ -83,7 +83,7 @@ std::vector<RegionView> EditorCommands::regions() const {
     v.tag = t.name;
     v.key = "tags[" + t.name + "].region." + k;
     v.kind = t.region.kind;
-    v.lesion = is_lesion(t.name);
+    v.lesion = resolve_role(t.role, t.name, false) == Role::Lesion;
     switch (t.region.kind) {
       case RegionSpec::Sphere: v.center_mm = 1e3 * t.region.center; v.size_mm = Vec3::Constant(1e3 * t.region.radius); break;
       case RegionSpec::Ellipsoid: v.center_mm = 1e3 * t.region.center; v.size_mm = 1e3 * t.region.radii; break;
@@ -211,7 +211,7 @@ EditResult EditorCommands::add_filling() {
   for (size_t c = 0; c < m.components.size(); ++c) {
     const int si = m.components[c].surface;
     if (si < 0 || !m.surfaces[static_cast<size_t>(si)].volume_constrained) continue;
-    if (pick < 0 || m.components[c].name == "bladder") pick = static_cast<int>(c);
+    if (pick < 0 || m.components[c].role == Role::Bladder) pick = static_cast<int>(c);
   }
   if (pick < 0) return refused("filling", "no organ has a volume constraint (incompressible: true): nothing can be filled");
   const double rest_ml = 1e6 * m.surfaces[static_cast<size_t>(m.components[static_cast<size_t>(pick)].surface)].rest_volume;

@@ -62,11 +62,11 @@ struct FrameRecorder::Impl {
   std::vector<Thumb> thumbs;                               // contact sheet frames
   std::vector<int> thumb_frames;
 
-  Impl(const Model& m, const std::string& urethra, FrameOptions o, const UltrasoundInput* us)
+  Impl(const Model& m, FrameOptions o, const UltrasoundInput* us)
       : opt(checked(std::move(o), us)),
         folder_ready((prepare_output_dir(opt.out_dir, opt.force), true)),
         aa(render::resolve_antialias(opt.antialias, ctx.renderer())),
-        renderer(render::make_render_scene(m, urethra)),
+        renderer(render::make_render_scene(m)),
         target(opt.width, opt.height, aa == render::Antialias::Msaa ? 4 : 0),
         queue(6) {
     orbit.target = renderer.scene().focus;
@@ -82,8 +82,8 @@ struct FrameRecorder::Impl {
   }
 };
 
-FrameRecorder::FrameRecorder(const Model& model, const std::string& urethra, FrameOptions opt, const UltrasoundInput* us)
-    : impl_(std::make_unique<Impl>(model, urethra, std::move(opt), us)) {
+FrameRecorder::FrameRecorder(const Model& model, FrameOptions opt, const UltrasoundInput* us)
+    : impl_(std::make_unique<Impl>(model, std::move(opt), us)) {
   for (render::View v : impl_->opt.views) fs::create_directories(fs::path(impl_->opt.out_dir) / render::view_name(v));
   for (us::PlaneKind k : impl_->opt.us_views) fs::create_directories(fs::path(impl_->opt.out_dir) / us_view_name(k));
 }

@@ -46,7 +46,7 @@ class FrameRecorder {
   // it is not empty without force, or not writable), then the renderer. Throws
   // render::RenderError when no headless GL is available (nothing written then). `us` is needed
   // (InputError otherwise) when opt.us_views is not empty; its settings are validated first.
-  FrameRecorder(const Model& model, const std::string& urethra_csv, FrameOptions opt, const UltrasoundInput* us = nullptr);
+  FrameRecorder(const Model& model, FrameOptions opt, const UltrasoundInput* us = nullptr);
   ~FrameRecorder();
 
   // Every tick (or every snapshot read): logs its events and samples the active needle's depth

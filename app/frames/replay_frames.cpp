@@ -25,9 +25,6 @@ ReplayFramesResult replay_frames(const Scene& scene, LockstepRunner& run, int64_
   end_tick = std::max(end_tick, start);
   const int frames = static_cast<int>((end_tick - start) / every) + 1 + ((end_tick - start) % every ? 1 : 0);
   opt.expected_frames = frames;
-  std::string urethra;
-  for (const auto& c : scene.spec.components)
-    if (c.name == "prostate") urethra = render::urethra_file_beside(c.shape.mesh.file);
   std::unique_ptr<UltrasoundInput> us;
   if (!opt.us_views.empty()) {
     if (!scene.spec.probe) throw InputError(scene.spec.file, 0, "--views", "ultrasound views need a scenario with a probe: section");
@@ -35,7 +32,7 @@ ReplayFramesResult replay_frames(const Scene& scene, LockstepRunner& run, int64_
     us->anatomy = us::anatomy_for_scenario(scene.spec, *scene.model);
     us->settings = us::settings_for_probe(*scene.spec.probe);
   }
-  FrameRecorder rec(*scene.model, urethra, opt, us.get());  // GL context first, then the folder
+  FrameRecorder rec(*scene.model, opt, us.get());  // GL context first, then the folder
   ReplayFramesResult r;
   InstrumentsCsv instruments;  // instruments.csv: the needles' and the probe's poses at every frame
   int done = 0;

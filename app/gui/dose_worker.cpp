@@ -12,8 +12,7 @@ namespace ps::gui {
 namespace {
 
 // particle indices of a component's surface in the order organ_surface_mm numbers them
-std::vector<int> surface_ids(const Model& m, const std::string& component) {
-  const int c = m.find_component(component);
+std::vector<int> surface_ids(const Model& m, int c) {
   if (c < 0 || m.components[static_cast<size_t>(c)].surface < 0) return {};
   return m.surfaces[static_cast<size_t>(m.components[static_cast<size_t>(c)].surface)].vertices;
 }
@@ -23,16 +22,17 @@ std::vector<int> surface_ids(const Model& m, const std::string& component) {
 DoseWorker::DoseWorker(const Scene& scene, const std::string& isotope, double rx, double strength_u)
     : model_(scene.model.get()), rx_(rx), strength_u_(strength_u) {
   const Model& m = *model_;
-  const MetricsOptions mo = metrics_options_for(scene.spec);
+  const MetricsOptions mo = metrics_options_for(scene.spec, m);
+  const int gland = m.find_organ(mo.gland, Role::Prostate), rectum = m.find_role(Role::Rectum);
   const dosimetry::SourceModel* src = dosimetry::find_source_model(isotope);
   if (!src) throw InputError("", 0, "isotope", "unknown seed model '" + isotope + "'");
   std::vector<Vec3> pv, rv;
   std::vector<std::array<int, 3>> pf, rf;
-  organ_surface_mm(m, mo.gland, m.rest_pos, pv, pf);
+  organ_surface_mm(m, gland, m.rest_pos, pv, pf);
   if (pv.empty()) throw InputError(scene.spec.file, 0, "components", "no gland surface to compute the dose on");
-  organ_surface_mm(m, "rectum", m.rest_pos, rv, rf);
-  prostate_ids_ = surface_ids(m, mo.gland);
-  rectum_ids_ = surface_ids(m, "rectum");
+  organ_surface_mm(m, rectum, m.rest_pos, rv, rf);
+  prostate_ids_ = surface_ids(m, gland);
+  rectum_ids_ = surface_ids(m, rectum);
   for (const Vec3& u : mo.urethra) urethra_.push_back(track_point(m, u));
   live_ = std::make_unique<dosimetry::LiveDosimetry>(*src, dosimetry::gland_grid(pv), pf, rf, rx);
   thread_ = std::thread([this] { run(); });

@@ -9,10 +9,7 @@
 namespace ps::gui {
 
 void Session::make_renderer() {
-  std::string urethra;
-  for (const auto& c : scene_->spec.components)
-    if (c.name == "prostate") urethra = render::urethra_file_beside(c.shape.mesh.file);
-  renderer_ = std::make_unique<render::Renderer>(render::make_render_scene(*scene_->model, urethra));
+  renderer_ = std::make_unique<render::Renderer>(render::make_render_scene(*scene_->model));
 }
 
 Session::Session(app::RunSession& run)

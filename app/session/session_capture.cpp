@@ -27,7 +27,7 @@ std::unique_ptr<SessionCapture> SessionCapture::make(const Scene& scene) {
 }
 
 SessionCapture::SessionCapture(const Scene& scene) : scene_(scene), needles_(needle_tool_of(scene)) {
-  gland_ = scene.model->find_component("prostate");
+  gland_ = scene.model->find_role(Role::Prostate);
   if (scene.tools.has<ProbeTool>())
     for (Shot& sh : shots_) snapshot_of(*scene.sim, sh.snap);  // sizes the buffers once
   rewind();
@@ -36,7 +36,7 @@ SessionCapture::SessionCapture(const Scene& scene) : scene_(scene), needles_(nee
 void SessionCapture::rewind() {
   shots_used_ = 0;
   events_seen_ = needles_.events().total();
-  metrics_ = std::make_unique<SessionMetrics>(*scene_.model, needles_, metrics_options_for(scene_.spec));
+  metrics_ = std::make_unique<SessionMetrics>(*scene_.model, needles_, metrics_options_for(scene_.spec, *scene_.model));
   rec_ = std::make_unique<ForceDepthRecorder>(needles_.count());
 }
 

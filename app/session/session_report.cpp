@@ -34,15 +34,17 @@ plot::Chart scene_view(const Model& m, const State& s, const NeedleTool& tool, c
   c.x.label = xl;
   c.y.label = yl;
   c.legend = plot::LegendPos::TopRight;
-  auto organ_colour = [](const std::string& n, size_t k) -> plot::Rgb {
-    if (n.find("prostate") != std::string::npos) return {205, 110, 110};
-    if (n.find("bladder") != std::string::npos) return {110, 160, 215};
-    if (n.find("rect") != std::string::npos) return {215, 160, 80};
-    if (n.find("fat") != std::string::npos) return {212, 212, 212};
-    if (n.find("bone") != std::string::npos || n.find("pubic") != std::string::npos) return {160, 110, 170};
-    return plot::palette(static_cast<int>(k) + 3);
+  auto organ_colour = [](Role role, size_t k) -> plot::Rgb {
+    switch (role) {
+      case Role::Prostate: return {205, 110, 110};
+      case Role::Bladder: return {110, 160, 215};
+      case Role::Rectum: return {215, 160, 80};
+      case Role::Fat: return {212, 212, 212};
+      case Role::Bone: return {160, 110, 170};
+      default: return plot::palette(static_cast<int>(k) + 3);
+    }
   };
-  const int gland = m.find_component("prostate");
+  const int gland = m.find_role(Role::Prostate);
   for (size_t k = 0; k < m.components.size(); ++k) {
     const Component& comp = m.components[k];
     plot::Series p;
@@ -50,7 +52,7 @@ plot::Chart scene_view(const Model& m, const State& s, const NeedleTool& tool, c
     p.line = false;
     p.marker = plot::Marker::Circle;
     p.marker_size = comp.name.find("fat") != std::string::npos ? 2.0 : 3.5;
-    p.color = organ_colour(comp.name, k);
+    p.color = organ_colour(comp.role, k);
     for (int i = comp.first_particle; i < comp.first_particle + comp.particle_count; ++i) {
       p.x.push_back(1e3 * s.x[i][a]);
       p.y.push_back(1e3 * s.x[i][b]);

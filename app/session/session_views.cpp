@@ -26,10 +26,7 @@ RgbImage render_3d_view(const Scene& scene, const Snapshot& snap0, const Session
   RgbImage img;
   try {
     render::HeadlessContext ctx;
-    std::string urethra;
-    for (const auto& c : scene.spec.components)
-      if (c.name == "prostate" && !c.shape.mesh.file.empty()) urethra = render::urethra_file_beside(c.shape.mesh.file);
-    render::Renderer rr(render::make_render_scene(*scene.model, urethra));
+    render::Renderer rr(render::make_render_scene(*scene.model));
     Snapshot snap = snap0;
     // the report's markers: target carried by the tissue (red), where the needle put its sample (blue)
     for (const NeedleMetrics& n : r.needles) {

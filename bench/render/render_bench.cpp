@@ -36,10 +36,7 @@ struct Fixture {
     run->add_source(script.get());
     run->advance_to(static_cast<int64_t>(0.6 / scene.model->dt));  // needle in the gland
     snap = run->snapshot();
-    std::string urethra;
-    for (const auto& c : scene.spec.components)
-      if (c.name == "prostate") urethra = ps::render::urethra_file_beside(c.shape.mesh.file);
-    renderer = std::make_unique<ps::render::Renderer>(ps::render::make_render_scene(*scene.model, urethra));
+    renderer = std::make_unique<ps::render::Renderer>(ps::render::make_render_scene(*scene.model));
   }
 };
 

@@ -502,6 +502,11 @@ std::string assimp_error(const Assimp::Importer& importer) {
   return "cannot import mesh: " + e;
 }
 
+Mat3 euler_xyz_deg(const Vec3& deg);
+
+// rotation times scale: what import_mesh and place_like_mesh apply before the translation
+Mat3 placement_matrix(const MeshImportOptions& opt) { return euler_xyz_deg(opt.rotate_deg) * opt.scale.asDiagonal(); }
+
 Mat3 euler_xyz_deg(const Vec3& deg) {
   const double k = std::numbers::pi / 180.0;
   // "XYZ applied in that order": rotate about x first, so it is the rightmost factor.
@@ -571,7 +576,7 @@ TriMesh import_mesh(const std::string& path, const MeshImportOptions& opt) {
     fail(path, "bounding box diagonal is " + fmt_g(diag) + " m after converting from '" + opt.units +
                    "' (allowed 1 mm to 5 m): wrong units?", 0, "units");
 
-  const Mat3 m = euler_xyz_deg(opt.rotate_deg) * opt.scale.asDiagonal();
+  const Mat3 m = placement_matrix(opt);
   for (size_t i = 0; i < mesh.vertices.size(); ++i) {
     Vec3& v = mesh.vertices[i];
     v = m * v + opt.translate_m;
@@ -582,5 +587,7 @@ TriMesh import_mesh(const std::string& path, const MeshImportOptions& opt) {
     for (auto& f : mesh.faces) std::swap(f[1], f[2]);
   return mesh;
 }
+
+Vec3 place_like_mesh(const Vec3& p_m, const MeshImportOptions& opt) { return placement_matrix(opt) * p_m + opt.translate_m; }
 
 }  // namespace ps

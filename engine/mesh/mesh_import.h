@@ -33,4 +33,9 @@ TriMesh import_mesh(const std::string& path, const MeshImportOptions& opt = {});
 // for anything else.
 double units_to_metres(const std::string& units, const std::string& file_for_errors);
 
+// The placement import_mesh applies after the unit conversion, for a point already in metres:
+// rotate(scale(p)) + translate. Data that lives in a mesh's frame (the urethra's centre line
+// beside the prostate's mesh) is placed with it so that it stays where the mesh puts the organ.
+Vec3 place_like_mesh(const Vec3& p_m, const MeshImportOptions& opt);
+
 }  // namespace ps

@@ -23,11 +23,10 @@ const dosimetry::SourceModel& model_of(const std::string& isotope) {
 
 }  // namespace
 
-void organ_surface_mm(const Model& m, const std::string& component, const std::vector<Vec3>& x,
-                      std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f) {
+void organ_surface_mm(const Model& m, int c, const std::vector<Vec3>& x, std::vector<Vec3>& v,
+                      std::vector<std::array<int, 3>>& f) {
   v.clear();
   f.clear();
-  const int c = m.find_component(component);
   if (c < 0 || m.components[static_cast<size_t>(c)].surface < 0) return;
   const Surface& s = m.surfaces[static_cast<size_t>(m.components[static_cast<size_t>(c)].surface)];
   v.reserve(s.vertices.size());
@@ -57,7 +56,8 @@ DosimetryReport implant_dosimetry(const Model& m, const std::vector<Vec3>& x, co
                                   const DosimetryOptions& opt) {
   DosimetryReport rep;
   const std::vector<dosimetry::Seed> plan = planned_seeds(tool, opt.strength_u);
-  if (plan.empty() || m.find_component(opt.gland) < 0) return rep;
+  const int gland = m.find_organ(opt.gland, Role::Prostate), rectum = m.find_organ(opt.rectum, Role::Rectum);
+  if (plan.empty() || gland < 0) return rep;
   const dosimetry::SourceModel& src = model_of(opt.isotope);
   rep.computed = true;
   rep.isotope = src.name;
@@ -69,8 +69,8 @@ DosimetryReport implant_dosimetry(const Model& m, const std::vector<Vec3>& x, co
   std::vector<Vec3> pv, rv;
   std::vector<std::array<int, 3>> pf, rf;
   // planned: organs at rest
-  organ_surface_mm(m, opt.gland, m.rest_pos, pv, pf);
-  organ_surface_mm(m, opt.rectum, m.rest_pos, rv, rf);
+  organ_surface_mm(m, gland, m.rest_pos, pv, pf);
+  organ_surface_mm(m, rectum, m.rest_pos, rv, rf);
   const dosimetry::GridSpec g = dosimetry::gland_grid(pv);
   {
     const auto mask = dosimetry::structure_mask(g, pv, pf, rv, rf, to_mm(urethra_rest), opt.urethra_radius_mm);
@@ -80,8 +80,8 @@ DosimetryReport implant_dosimetry(const Model& m, const std::vector<Vec3>& x, co
     rep.dvh_planned = dosimetry::dvh_curve(acc.dose_gy(), mask, opt.prescription_gy);
   }
   // achieved: organs where they are now
-  organ_surface_mm(m, opt.gland, x, pv, pf);
-  organ_surface_mm(m, opt.rectum, x, rv, rf);
+  organ_surface_mm(m, gland, x, pv, pf);
+  organ_surface_mm(m, rectum, x, rv, rf);
   const auto mask = dosimetry::structure_mask(g, pv, pf, rv, rf, to_mm(urethra_now), opt.urethra_radius_mm);
   dosimetry::DoseAccumulator acc(src, g);
   acc.rebuild(now);
@@ -97,14 +97,17 @@ dosimetry::PlanInput plan_input(const Model& m, const ProbeTool& probe, const st
   in.prescription_gy = opt.prescription_gy;
   in.strength_u = opt.strength_u;
   in.urethra_radius_mm = opt.urethra_radius_mm;
-  organ_surface_mm(m, opt.gland, m.rest_pos, in.prostate_mm, in.prostate_faces);
-  if (in.prostate_mm.empty()) throw InputError("", 0, "components", "no '" + opt.gland + "' component with a surface to plan on");
-  organ_surface_mm(m, opt.rectum, m.rest_pos, in.rectum_mm, in.rectum_faces);
-  for (const Component& c : m.components)
-    if (c.kind == ComponentKind::Rigid) {
+  organ_surface_mm(m, m.find_organ(opt.gland, Role::Prostate), m.rest_pos, in.prostate_mm, in.prostate_faces);
+  if (in.prostate_mm.empty())
+    throw InputError("", 0, "components",
+                     opt.gland.empty() ? "no component with role prostate and a surface to plan on"
+                                       : "no '" + opt.gland + "' component with a surface to plan on");
+  organ_surface_mm(m, m.find_organ(opt.rectum, Role::Rectum), m.rest_pos, in.rectum_mm, in.rectum_faces);
+  for (size_t c = 0; c < m.components.size(); ++c)
+    if (m.components[c].kind == ComponentKind::Rigid) {
       std::vector<Vec3> v;
       std::vector<std::array<int, 3>> f;
-      organ_surface_mm(m, c.name, m.rest_pos, v, f);
+      organ_surface_mm(m, static_cast<int>(c), m.rest_pos, v, f);
       const int base = static_cast<int>(in.bone_mm.size());
       for (const Vec3& p : v) in.bone_mm.push_back(p);
       for (const auto& t : f) in.bone_faces.push_back({t[0] + base, t[1] + base, t[2] + base});

@@ -21,8 +21,8 @@ struct DosimetryOptions {
   std::string isotope = "I125_6711";
   double prescription_gy = 145.0;   // I-125 monotherapy (ABS)
   double strength_u = 0.5;          // air-kerma strength per seed [U]
-  std::string gland = "prostate";
-  std::string rectum = "rectum";
+  std::string gland;                // empty: the first component whose role is prostate
+  std::string rectum;               // empty: the first component whose role is rectum
   double urethra_radius_mm = 3.0;
 };
 
@@ -35,9 +35,10 @@ struct DosimetryReport {
   dosimetry::DvhCurve dvh_planned, dvh_achieved;
 };
 
-// A component's closed particle surface in millimetres at positions x [m] (empty if none).
-void organ_surface_mm(const Model& m, const std::string& component, const std::vector<Vec3>& x,
-                      std::vector<Vec3>& vertices_mm, std::vector<std::array<int, 3>>& faces);
+// Component c's closed particle surface in millimetres at positions x [m] (empty if c < 0 or it
+// has none).
+void organ_surface_mm(const Model& m, int c, const std::vector<Vec3>& x, std::vector<Vec3>& vertices_mm,
+                      std::vector<std::array<int, 3>>& faces);
 
 // The seeds the needles deposited, at their current (tissue-carried) sites, along their needles.
 std::vector<dosimetry::Seed> deposited_seeds(const NeedleTool& tool, double strength_u);

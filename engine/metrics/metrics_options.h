@@ -1,6 +1,6 @@
-// MetricsOptions for a scenario: the gland is the `prostate_zones:` component (else "prostate"),
-// and the urethra centre line is read from urethra.csv beside the gland's mesh when the anatomy
-// folder has one (assets/anatomy, `prostatesim make-anatomy`). Setup only (reads a file).
+// MetricsOptions for a compiled scenario: the gland is the `prostate_zones:` component (else the
+// first component whose role is prostate), the urethra centre line the Model's (read once at
+// compile from urethra.csv beside the gland's mesh, engine/scenario/compile_urethra.cpp).
 #pragma once
 #include <string>
 #include <vector>
@@ -10,10 +10,6 @@
 
 namespace ps {
 
-// Parses urethra.csv ("# ..." comments, header x_mm,y_mm,z_mm, rows in mm) into metres;
-// InputError naming file:line on a bad row.
-std::vector<Vec3> parse_urethra_csv(const std::string& text, const std::string& file);
-
-MetricsOptions metrics_options_for(const ScenarioSpec& spec);
+MetricsOptions metrics_options_for(const ScenarioSpec& spec, const Model& model);
 
 }  // namespace ps

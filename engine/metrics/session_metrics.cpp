@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "engine/metrics/planned_sites.h"
-#include "engine/model/organ.h"
+#include "engine/model/role.h"
 #include "engine/tools/biopsy.h"
 #include "engine/util/error.h"
 
@@ -14,17 +14,20 @@ namespace {
 
 enum : uint32_t { kUrethra = 1, kRectum = 2, kBladder = 4, kBone = 8, kLastStructure = kBone };
 
-bool is_tumour_name(const std::string& n, const std::vector<std::string>& listed) {
+// A component or tag the needle counts as tumour: one the needle lists (`tumour:`), else one
+// whose role is lesion (as NeedleTool builds Needle::tumour, needle.cpp).
+bool is_tumour(const std::string& n, Role role, const std::vector<std::string>& listed) {
   if (!listed.empty()) return std::find(listed.begin(), listed.end(), n) != listed.end();
-  return is_lesion_name(n);
+  return role == Role::Lesion;
 }
 
 // Does particle p belong to tumour tissue as the needle's core would count it (biopsy.cpp)?
 bool tumour_particle(const Model& m, int p, const std::vector<std::string>& listed) {
-  if (is_tumour_name(m.components[m.component_of[p]].name, listed)) return true;
+  const Component& c = m.components[m.component_of[p]];
+  if (is_tumour(c.name, c.role, listed)) return true;
   if (m.particle_tags.empty()) return false;
   for (size_t t = 0; t < m.tag_names.size(); ++t)
-    if ((m.particle_tags[p] >> t & 1u) && is_tumour_name(m.tag_names[t], listed)) return true;
+    if ((m.particle_tags[p] >> t & 1u) && is_tumour(m.tag_names[t], m.tag_role(static_cast<int>(t)), listed)) return true;
   return false;
 }
 
@@ -48,17 +51,17 @@ const char* structure_name(int bit) {
 }
 
 uint32_t structure_of(const Component& c) {
-  switch (component_organ(c)) {
-    case Organ::Bone: return kBone;
-    case Organ::Urethra: return kUrethra;
-    case Organ::Rectum: return kRectum;
-    case Organ::Bladder: return kBladder;
+  switch (c.role) {
+    case Role::Bone: return kBone;
+    case Role::Urethra: return kUrethra;
+    case Role::Rectum: return kRectum;
+    case Role::Bladder: return kBladder;
     default: return 0;
   }
 }
 
 SessionMetrics::SessionMetrics(const Model& m, const NeedleTool& tool, const MetricsOptions& opt) : model_(&m), opt_(opt) {
-  gland_ = m.find_component(opt.gland);
+  gland_ = m.find_organ(opt.gland, Role::Prostate);
   structure_of_.resize(m.components.size());
   for (size_t c = 0; c < m.components.size(); ++c) structure_of_[c] = static_cast<uint8_t>(structure_of(m.components[c]));
   tracks_.resize(tool.count());
@@ -276,7 +279,7 @@ SessionReport SessionMetrics::finish(const NeedleTool& tool, const State& s, boo
         const CoreSite site = core_site(c);
         cm.site = site.label;
         for (const auto& [tag, count] : site.lesions)
-          if (is_lesion_name(tag) && std::find(lesion_tags_hit.begin(), lesion_tags_hit.end(), tag) == lesion_tags_hit.end())
+          if (m.tag_role(m.find_tag(tag)) == Role::Lesion && std::find(lesion_tags_hit.begin(), lesion_tags_hit.end(), tag) == lesion_tags_hit.end())
             lesion_tags_hit.push_back(tag);
         if (cm.site.empty()) ++rep.cores_outside_gland;
         const std::string key = cm.site.empty() ? "outside the gland" : cm.site;
@@ -291,8 +294,8 @@ SessionReport SessionMetrics::finish(const NeedleTool& tool, const State& s, boo
       if (!lesion_hit) ++rep.lesions_missed;
     }
     if (!sp.planned_sites.empty())  // every lesion of the case is a target of the protocol
-      for (const std::string& tag : m.tag_names)
-        if (is_lesion_name(tag)) {
+      for (size_t t = 0; t < m.tag_names.size(); ++t)
+        if (const std::string& tag = m.tag_names[t]; m.tag_role(static_cast<int>(t)) == Role::Lesion) {
           ++rep.lesions_targeted;
           if (std::find(lesion_tags_hit.begin(), lesion_tags_hit.end(), tag) == lesion_tags_hit.end()) ++rep.lesions_missed;
         }

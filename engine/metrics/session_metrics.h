@@ -17,7 +17,7 @@
 //  * peak and mean axial force over the ticks in contact with tissue (tick averages) [N];
 //  * insertion time: first contact to the decisive moment (last seed for a seed needle) [s];
 //  * structures hit: urethra, rectal wall, bladder, bone, from the Contact / Puncture / BoneHit
-//    events on those organs (engine/model/organ.h: by component name, any rigid component = bone),
+//    events on those organs (engine/model/role.h: by component name, any rigid component = bone),
 //    the Urethra event, and
 //    for the urethra also the tip coming within MetricsOptions::urethra_radius of the urethra
 //    centre line (carried by the tissue) when one is given. The component the needle enters
@@ -58,8 +58,10 @@ inline constexpr int kMaxTrackedCores = 64;      // cores per needle whose error
 inline constexpr double kProbeForceThreshold = 10.0;
 
 struct MetricsOptions {
-  std::string gland = "prostate";  // component whose surface is the gland (seeds outside it)
-  std::vector<Vec3> urethra;       // urethra centre line at rest [m] (empty: by component name only)
+  std::string gland;               // component whose surface is the gland (seeds outside it);
+                                   // empty: the first whose role is prostate
+  std::vector<Vec3> urethra;       // urethra centre line at rest [m] (Model::urethra; empty: by
+                                   // the urethra role's component only)
   double urethra_radius = 3e-3;    // [m]
   DosimetryOptions dosimetry;      // isotope, prescription, seed strength (its gland: `gland`)
 };

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/model/role.h"
 #include "engine/util/vec.h"
 
 namespace ps {
@@ -28,6 +29,7 @@ enum class ComponentKind : uint8_t { Elastic, Rigid, Active };
 struct Component {
   std::string name;
   ComponentKind kind = ComponentKind::Elastic;
+  Role role = Role::Other;         // `role:`, else default_role() of the name (engine/model/role.h)
   int first_particle = 0;          // particles of a component are contiguous
   int particle_count = 0;
   int surface = -1;                // index into Model::surfaces, -1 if none
@@ -310,6 +312,7 @@ struct Model {
   // named particle tags (scenario tags: and prostate_zones:, e.g. "lesion", "base", "peripheral"):
   // bit t of particle_tags[p] is set when particle p carries tag_names[t]
   std::vector<std::string> tag_names;   // [tags] at most 64
+  std::vector<Role> tag_roles;          // [tags] `role:` of the tag, else default_role() of its name
   std::vector<uint64_t> particle_tags;  // [n] bit masks; empty when the scene has no tags
   int find_tag(const std::string& t) const {
     for (size_t i = 0; i < tag_names.size(); ++i)
@@ -318,6 +321,12 @@ struct Model {
   }
 
   std::vector<Component> components;
+  // The prostatic urethra's centre line at rest [m] (empty: none): urethra.csv beside the mesh of
+  // the gland (the `prostate_zones:` component, else the first component whose role is prostate),
+  // placed by the mesh's units, scale, rotation and translation like the mesh itself
+  // (engine/scenario/compile_urethra.cpp). The needle's urethra events, the metrics, the
+  // ultrasound and the renderer all read this one line.
+  std::vector<Vec3> urethra;
   std::vector<Surface> surfaces;
   std::vector<RigidBody> rigid_bodies;
   std::vector<RigidAttachment> attachments;
@@ -361,6 +370,16 @@ struct Model {
       if (components[c].name == n) return static_cast<int>(c);
     return -1;
   }
+  // The component named `name`, or where `name` is empty the first whose role is `role`; -1 if none.
+  int find_organ(const std::string& name, Role role) const { return name.empty() ? find_role(role) : find_component(name); }
+  // The first component with role r, -1 if none.
+  int find_role(Role r) const {
+    for (size_t c = 0; c < components.size(); ++c)
+      if (components[c].role == r) return static_cast<int>(c);
+    return -1;
+  }
+  // Role of tag t (Role::Other where the model has no roles for its tags).
+  Role tag_role(int t) const { return t >= 0 && t < static_cast<int>(tag_roles.size()) ? tag_roles[t] : Role::Other; }
 };
 
 }  // namespace ps

@@ -53,11 +53,16 @@ uint64_t model_hash(const Model& m) {
   for (const BetaTriplet& b : m.beta) { f.pod(b.i); f.pod(b.j); f.pod(b.k); f.pod(b.b); }
   for (const std::string& t : m.tag_names) f.str(t);
   f.vec(m.particle_tags);
+  // a role only where `role:` gives another than the name's default: a scene that names its organs
+  // keeps its hash, and an edit of a role is a different compiled scene
+  for (size_t t = 0; t < m.tag_roles.size() && t < m.tag_names.size(); ++t)
+    if (m.tag_roles[t] != default_role(m.tag_names[t], false)) { f.pod(t); f.pod(m.tag_roles[t]); }
   for (const Component& c : m.components) {
     f.str(c.name);
     f.pod(c.kind);
     f.pod(c.spacing);
     f.pod(c.active_force);
+    if (c.role != default_role(c.name, c.kind == ComponentKind::Rigid)) f.pod(c.role);
   }
   for (const Surface& s : m.surfaces) {
     f.vec(s.vertices);

@@ -48,6 +48,7 @@ std::shared_ptr<const Model> compile_scenario(const ScenarioSpec& spec, CompileR
   if (std::string note = build_tet_pressure(m, spec.pressure_iterations); !note.empty())
     work.notes.push_back(note);                          // implicit pressure: factor for the final substep
   compile_sleep(spec, m, work);                          // sleeping tissue: who may sleep (needs the pressure's support)
+  compile_urethra(spec, m);                              // the gland's urethra centre line (roles, the mesh's placement)
 
   const auto& warnings = work.warnings;
   const auto& notes = work.notes;

@@ -75,6 +75,7 @@ void compile_particles(const ScenarioSpec& spec, Model& m, CompileWork& work) {
     Component comp;
     comp.name = cs.name;
     comp.kind = cs.kind == "rigid" ? ComponentKind::Rigid : cs.kind == "active" ? ComponentKind::Active : ComponentKind::Elastic;
+    comp.role = resolve_role(cs.role, cs.name, comp.kind == ComponentKind::Rigid);
     comp.first_particle = m.particle_count();
     comp.particle_count = static_cast<int>(set.pos.size());
     comp.spacing = cs.spacing;

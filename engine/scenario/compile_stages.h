@@ -31,7 +31,7 @@ struct CompileWork {
 
 // In the order compile_scenario runs them (what each reads from earlier stages):
 // particles of every component, contiguous per component: rest_pos, component_of, on_surface,
-// components; work.nbrs, faces_of, excluded_volume (compile_particles.cpp)
+// components (with their roles); work.nbrs, faces_of, excluded_volume (compile_particles.cpp)
 void compile_particles(const ScenarioSpec& spec, Model& m, CompileWork& work);
 // mass, k_e, k_c, k_f, damping; work.strain, tet, shell, uses_model (each material model's moduli,
 // material_models.h); then overrides: (faces_of, excluded_volume) (compile_material.cpp)
@@ -56,6 +56,9 @@ void compile_time_step(const ScenarioSpec& spec, Model& m, CompileWork& work);
 // sleep: which particles may sleep and the thresholds (tets, tet_pressure, surfaces, constraints)
 // (compile_sleep.cpp)
 void compile_sleep(const ScenarioSpec& spec, Model& m, CompileWork& work);
+// urethra: the gland's centre line from urethra.csv beside its mesh, placed like the mesh
+// (components' roles) (compile_urethra.cpp)
+void compile_urethra(const ScenarioSpec& spec, Model& m);
 
 inline const MaterialSpec& find_material(const ScenarioSpec& spec, const std::string& name) {
   for (const auto& m : spec.materials)

@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "engine/model/role.h"
 #include "engine/scenario/material_models.h"
 #include "engine/spec/yaml_reader.h"
 #include "engine/tools/tool_kind.h"
@@ -184,13 +185,22 @@ ShapeSpec parse_shape(const YamlReader& r, const YAML::Node& c, const std::strin
   return s;
 }
 
+// A `role:` value: one of the words of engine/model/role.h, kept as written.
+std::string parse_role_word(const YamlReader& r, const YAML::Node& v, const std::string& k) {
+  const std::string w = r.string(v, k);
+  Role role = Role::Other;
+  if (!parse_role(w, &role)) r.fail(v, k, "unknown role '" + w + "' (" + role_words() + ")");
+  return w;
+}
+
 ComponentSpec parse_component(const YamlReader& r, const YAML::Node& c, int index, const std::string& dir) {
   const std::string k = "components[" + std::to_string(index) + "]";
-  r.only_keys(c, k, {"name", "type", "material", "spacing_mm", "fill", "box", "cylinder", "mesh", "kinematic",
+  r.only_keys(c, k, {"name", "role", "type", "material", "spacing_mm", "fill", "box", "cylinder", "mesh", "kinematic",
                      "fibre", "active_stress_kpa", "activation", "exclude_inside"});
   ComponentSpec cs;
   cs.loc = loc_of(r, c);
   cs.name = r.string(r.require(c, k, "name"), k + ".name");
+  if (c["role"]) cs.role = parse_role_word(r, c["role"], k + ".role");
   if (c["type"]) {
     cs.kind = r.string(c["type"], k + ".type");
     if (cs.kind != "elastic" && cs.kind != "rigid" && cs.kind != "active")
@@ -393,10 +403,11 @@ ScenarioSpec parse_scenario_impl(const std::string& text, const std::string& pat
   if (const YAML::Node n = list("tags"))
     for (size_t i = 0; i < n.size(); ++i) {
       const std::string k = "tags[" + std::to_string(i) + "]";
-      r.only_keys(n[i], k, {"name", "component", "region"});
+      r.only_keys(n[i], k, {"name", "role", "component", "region"});
       TagSpec t;
       t.loc = loc_of(r, n[i]);
       t.name = r.string(r.require(n[i], k, "name"), k + ".name");
+      if (n[i]["role"]) t.role = parse_role_word(r, n[i]["role"], k + ".role");
       t.component = r.string(r.require(n[i], k, "component"), k + ".component");
       t.region = parse_region(r, r.require(n[i], k, "region"), k + ".region");
       s.tags.push_back(t);

@@ -132,7 +132,6 @@ bool segment_hits_triangle(const Vec3& p0, const Vec3& p1, const Vec3& a, const 
   return true;
 }
 
-bool is_lesion_name(const std::string& n) { return n.find("lesion") != std::string::npos || n.find("tumo") != std::string::npos; }
 
 // Bounding box of a bounded region (false for All / HalfSpace).
 bool region_box(const RegionSpec& r, Vec3& lo, Vec3& hi) {
@@ -332,9 +331,9 @@ std::optional<DocumentIssue> check_scenario_semantics(const ScenarioSpec& spec, 
       return DocumentIssue{n.key + ".target_mm", n.line, "the target lies outside every organ"};
   // lesions that overlap: shared particles, or shared volume of bounded regions (0.5 mm grid)
   for (size_t a = 0; a < spec.tags.size(); ++a) {
-    if (!is_lesion_name(spec.tags[a].name)) continue;
+    if (m.tag_role(m.find_tag(spec.tags[a].name)) != Role::Lesion) continue;
     for (size_t b = a + 1; b < spec.tags.size(); ++b) {
-      if (!is_lesion_name(spec.tags[b].name)) continue;
+      if (m.tag_role(m.find_tag(spec.tags[b].name)) != Role::Lesion) continue;
       const int ta = m.find_tag(spec.tags[a].name), tb = m.find_tag(spec.tags[b].name);
       int shared = 0;
       if (ta >= 0 && tb >= 0 && !m.particle_tags.empty())

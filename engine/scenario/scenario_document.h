@@ -16,7 +16,7 @@
 //  * compile checks (degenerate geometry), and the instruments' own checks when built (needle
 //    paths, the probe's start pose in the rectum and out of bone, the filled organ's volumes);
 //  * a needle target_mm outside every organ (no tissue holds it);
-//  * overlapping lesions: two tags named *lesion* / *tumo* whose regions share particles or
+//  * overlapping lesions: two tags whose role is lesion (Model::tag_roles) whose regions share particles or
 //    volume;
 //  * a needle path through bone: the segment from start_mm to the deepest planned depth crosses
 //    the surface of a rigid component.

@@ -126,6 +126,7 @@ void place_lesions(const ScenarioSpec& spec, Model& m) {
     if (m.find_tag(name) >= 0) throw InputError(spec.file, ls.loc.line, "lesions", "tag '" + name + "' is already given under tags:");
     const int bit = static_cast<int>(m.tag_names.size());
     m.tag_names.push_back(name);
+    m.tag_roles.push_back(Role::Lesion);
     const double r = 0.5 * ls.diameter;
     for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p)
       if ((m.rest_pos[p] - c).norm() <= r) m.particle_tags[p] |= uint64_t{1} << bit;
@@ -145,7 +146,10 @@ void apply_particle_tags(const ScenarioSpec& spec, Model& m, const std::vector<s
     if (!comp.volumetric || faces_of[ci].empty())
       throw InputError(spec.file, z.loc.line, "prostate_zones.component",
                        "'" + z.component + "' must be a volumetric component with a closed surface");
-    for (const char* t : kZoneTagNames) m.tag_names.emplace_back(t);
+    for (const char* t : kZoneTagNames) {
+      m.tag_names.emplace_back(t);
+      m.tag_roles.push_back(Role::Other);  // a zone of the gland, not an organ
+    }
     // depth below the capsule from the component's own rest surface
     TriMesh surf;
     surf.vertices = m.rest_pos;
@@ -168,6 +172,7 @@ void apply_particle_tags(const ScenarioSpec& spec, Model& m, const std::vector<s
     if (m.tag_names.size() >= 64) throw InputError(spec.file, t.loc.line, key, "more than 64 tags (zones included)");
     const int bit = static_cast<int>(m.tag_names.size());
     m.tag_names.push_back(t.name);
+    m.tag_roles.push_back(resolve_role(t.role, t.name, false));
     const Component& comp = m.components[m.find_component(t.component)];
     int hits = 0;
     for (int p = comp.first_particle; p < comp.first_particle + comp.particle_count; ++p)

@@ -20,7 +20,7 @@ Scene build_scene(const ScenarioSpec& spec) {
   sc.tools = add_scenario_tools(sc.spec, sc.model, *sc.sim);
   NeedleTool* needles = sc.tools.as<NeedleTool>();
   if (needles && sc.spec.prostate_zones) {  // the anatomy's urethra line, when it has one
-    const MetricsOptions opt = metrics_options_for(sc.spec);
+    const MetricsOptions opt = metrics_options_for(sc.spec, *sc.model);
     needles->set_urethra(opt.urethra, opt.urethra_radius);
   }
   return sc;

@@ -19,7 +19,7 @@ Trajectory record_trajectory(const ScenarioSpec& spec, std::shared_ptr<const Mod
   Trajectory tr;
   tr.dt = m.dt;
   tr.substeps = m.substeps;
-  const int prostate = m.find_component("prostate");
+  const int prostate = m.find_role(Role::Prostate);
   if (prostate >= 0) {
     const Component& c = m.components[prostate];
     for (int p = c.first_particle; p < c.first_particle + c.particle_count; ++p) tr.watched_particles.push_back(p);

@@ -57,8 +57,8 @@ struct NeedleSpec {
   std::vector<NeedleScriptPoint> script;  // empty: hold at start (interactive commands)
   std::vector<double> seed_depths; // brachytherapy seeds, planned depths along the path [m]
   std::optional<BiopsyGunSpec> gun;
-  // core sample: components or particle tags that are tumour (empty: those whose name contains
-  // "tumo" or "lesion")
+  // core sample: components or particle tags that are tumour (empty: those whose role is lesion,
+  // engine/model/role.h)
   std::vector<std::string> tumour;
   // training metrics (engine/metrics): the point the trainee aims at, at rest [m], carried by the
   // tissue while it moves (absent: the deepest point of the script, start + depth x direction),

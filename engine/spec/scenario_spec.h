@@ -77,6 +77,8 @@ struct ComponentSpec {
   std::string name;
   std::string kind = "elastic";    // elastic | rigid | active
   std::string material;
+  std::string role;                // `role:` as written (a word of engine/model/role.h); empty:
+                                   // the name's default (default_role), resolved by compile
   ShapeSpec shape;
   double spacing = 0.0;            // particle spacing h [m]
   bool volumetric = true;          // fill: volumetric | surface
@@ -176,6 +178,7 @@ struct FillingSpec {
 // Named particle tag (lesion, target, ...): the particles of `component` inside `region`.
 struct TagSpec {
   std::string name;
+  std::string role;                // `role:` as written; empty: the name's default (default_role)
   std::string component;
   RegionSpec region;
   SourceLoc loc;

@@ -7,7 +7,7 @@
 #include <limits>
 #include <numeric>
 
-#include "engine/model/organ.h"
+#include "engine/model/role.h"
 #include "engine/tools/bone_contact.h"
 #include "engine/tools/needle_internal.h"
 #include "engine/tools/probe.h"
@@ -269,9 +269,9 @@ NeedleTool::NeedleTool(std::shared_ptr<const Model> model, const NeedleSetSpec& 
         if (t >= 0) nd.tumour_tags |= uint64_t{1} << t;
       }
     } else {
-      for (int c = 0; c < nc; ++c) nd.tumour[c] = component_organ(m.components[c]) == Organ::Lesion;
+      for (int c = 0; c < nc; ++c) nd.tumour[c] = m.components[c].role == Role::Lesion;
       for (size_t t = 0; t < m.tag_names.size(); ++t)
-        if (is_lesion_name(m.tag_names[t])) nd.tumour_tags |= uint64_t{1} << t;
+        if (m.tag_role(static_cast<int>(t)) == Role::Lesion) nd.tumour_tags |= uint64_t{1} << t;
     }
     // explicit springs on particles: press and virtual-particle stiffness vs the substep, with the
     // margin the compiler keeps for the tissue (0.9 of the explicit limit 2 sqrt(m / k), m the

@@ -193,9 +193,9 @@ class NeedleTool : public Tool {
   // A needle in the guide (NeedleSpec::guide) follows this probe's guide from now on.
   void attach_probe(const class ProbeTool* probe);
   bool guided(int i) const;                // rides in the probe's biopsy guide
-  // The urethra's centre line at rest [m], carried by the gland's nearest particle, and its radius
-  // [m]: a tip that comes within the radius gives an Urethra event (needle_structures.cpp). Before
-  // the first step (build_scene sets it from the anatomy's urethra.csv).
+  // The urethra's centre line at rest [m], carried by the nearest particle of a component whose
+  // role is prostate, and its radius [m]: a tip that comes within the radius gives an Urethra
+  // event (needle_structures.cpp). Before the first step (build_scene sets it from Model::urethra).
   void set_urethra(const std::vector<Vec3>& centre_line, double radius);
   int active() const { return active_; }   // the selected needle (SelectNeedle), 0 at start
   double hub_roll(int i) const;            // NeedleRotate [rad]

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <limits>
 
-#include "engine/model/organ.h"
+#include "engine/model/role.h"
 #include "engine/tools/needle_internal.h"
 
 namespace ps {
@@ -30,7 +30,7 @@ void NeedleTool::set_urethra(const std::vector<Vec3>& centre_line, double radius
     int best = -1;
     double best_d2 = std::numeric_limits<double>::infinity();
     for (size_t c = 0; c < m.components.size(); ++c) {
-      if (component_organ(m.components[c]) != Organ::Gland) continue;
+      if (m.components[c].role != Role::Prostate) continue;
       const Component& cc = m.components[c];
       for (int p = cc.first_particle; p < cc.first_particle + cc.particle_count; ++p) {
         const double d2 = (m.rest_pos[p] - q).squaredNorm();

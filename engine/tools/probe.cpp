@@ -72,7 +72,7 @@ ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), recta
   }
   int rectum = -1, prostate = -1;
   if (!spec.rectum.empty()) rectum = component(spec.rectum, "probe.contact.rectum");
-  else if (m.find_component("rectum") >= 0) rectum = m.find_component("rectum");
+  else rectum = m.find_role(Role::Rectum);
   if (spec.imposed_mode) {
     if (rectum < 0 || spec.prostate.empty())
       fail(line, "probe.contact.mode", "mode imposed needs contact.rectum and contact.prostate components");

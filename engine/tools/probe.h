@@ -102,7 +102,7 @@ class ProbeTool final : public Tool {
   static const ToolKind& kind();
   // Checks the spec against the model and throws InputError (file:line:field) when a named
   // component is missing, the start pose is outside the rectum (the component named
-  // contact.rectum, else one called "rectum", if any), overlaps a contact component by more than
+  // contact.rectum, else the first whose role is rectum, if any), overlaps a contact component by more than
   // the tolerance, or lies inside a rigid component (bone).
   ProbeTool(const ProbeSpec& spec, const Model& model);
 

@@ -1,25 +1,17 @@
 #include "engine/ultrasound/anatomy.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <numeric>
 #include <sstream>
 
-#include "engine/model/organ.h"
+#include "engine/model/role.h"
 #include "engine/util/error.h"
 
 namespace ps::us {
 
 namespace {
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-bool has(const std::string& s, const char* w) { return s.find(w) != std::string::npos; }
 
 // volume enclosed by faces over positions [m^3] (divergence theorem)
 double enclosed_volume(const std::vector<Vec3>& x, const std::vector<std::array<int, 3>>& faces) {
@@ -38,23 +30,22 @@ double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
 }  // namespace
 
 Tissue tissue_for_component(const Component& c) {
-  const std::string n = lower(c.name);
-  if (has(n, "prostate")) return Tissue::Prostate;
-  if (has(n, "bladder")) return Tissue::Bladder;
-  if (has(n, "rect")) return Tissue::Rectum;
-  if (has(n, "gas")) return Tissue::Gas;
-  if (c.kind == ComponentKind::Rigid || has(n, "bone") || has(n, "pubic") || has(n, "pelvi")) return Tissue::Bone;
-  if (has(n, "fat")) return Tissue::Fat;
-  return Tissue::Soft;
+  switch (c.role) {
+    case Role::Prostate: return Tissue::Prostate;
+    case Role::Bladder: return Tissue::Bladder;
+    case Role::Rectum: return Tissue::Rectum;
+    case Role::Gas: return Tissue::Gas;
+    case Role::Bone: return Tissue::Bone;
+    case Role::Fat: return Tissue::Fat;
+    default: return Tissue::Soft;
+  }
 }
 
 float prostate_particle_echo(const Model& m, int p) {
   if (m.particle_tags.empty()) return 0.9f;
   const uint64_t t = m.particle_tags[p];
-  for (size_t k = 0; k < m.tag_names.size(); ++k) {
-    const std::string n = lower(m.tag_names[k]);
-    if ((t >> k & 1u) && (n.rfind("lesion", 0) == 0 || n.rfind("tumo", 0) == 0)) return 0.3f;
-  }
+  for (size_t k = 0; k < m.tag_names.size(); ++k)
+    if ((t >> k & 1u) && m.tag_role(static_cast<int>(k)) == Role::Lesion) return 0.3f;
   auto tagged = [&](const char* name) {
     const int k = m.find_tag(name);
     return k >= 0 && (t >> k & 1u);
@@ -69,7 +60,7 @@ UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt) {
   UltrasoundAnatomy a;
   a.rest = m.rest_pos;
   for (size_t t = 0; t < m.tag_names.size() && !m.particle_tags.empty(); ++t) {
-    if (!is_lesion_name(m.tag_names[t])) continue;
+    if (m.tag_role(static_cast<int>(t)) != Role::Lesion) continue;
     UsLesion l;
     l.name = m.tag_names[t];
     Vec3 c = Vec3::Zero();
@@ -105,7 +96,7 @@ UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt) {
   std::stable_sort(order.begin(), order.end(), [&](int i, int j) { return volume[i] < volume[j]; });
   for (size_t r = 0; r < order.size(); ++r) a.components[order[r]].priority = static_cast<int>(r);
 
-  a.urethra = opt.urethra;
+  a.urethra = m.urethra;
   a.urethra_radius = opt.urethra_radius;
   a.calcifications = opt.calcifications;
   if (a.prostate >= 0) {
@@ -175,27 +166,6 @@ UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt) {
     }
   }
   return a;
-}
-
-std::vector<Vec3> read_urethra_csv(const std::string& path, double unit_scale, const Vec3& translate) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "urethra", "cannot open the file");
-  std::vector<Vec3> out;
-  std::string line;
-  int ln = 0;
-  while (std::getline(in, line)) {
-    ++ln;
-    if (line.empty() || line[0] == '#') continue;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream ss(line);
-    double x, y, z;
-    if (!(ss >> x >> y >> z) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
-      if (out.empty() && ln <= 3) continue;  // header row (x_mm,y_mm,z_mm)
-      throw InputError(path, ln, "urethra", "expected three finite numbers x,y,z");
-    }
-    out.push_back(Vec3(x, y, z) * unit_scale + translate);
-  }
-  return out;
 }
 
 std::vector<std::pair<Vec3, double>> read_calcifications_csv(const std::string& path, double unit_scale, const Vec3& translate) {

@@ -1,8 +1,8 @@
 // Builds the static part of the ultrasound input (UltrasoundAnatomy, scene.h) from a compiled
-// Model, once: each component's acoustic class (from its name and kind, overridable), its closed
-// surface, its drawing priority (smaller enclosed rest volume first, so an organ inside the fat
-// block is drawn as the organ), and the prostate's rest-space echogenicity volume from the
-// particles' zone and lesion tags (engine/anatomy/zones.h, scenario `tags:`) and the urethra.
+// Model, once: each component's acoustic class (from its role, overridable), its closed surface,
+// its drawing priority (smaller enclosed rest volume first, so an organ inside the fat block is
+// drawn as the organ), and the prostate's rest-space echogenicity volume from the particles' zone
+// and lesion tags (engine/anatomy/zones.h, scenario `tags:`) and the Model's urethra line.
 #pragma once
 #include <string>
 #include <utility>
@@ -14,9 +14,8 @@
 namespace ps::us {
 
 struct AnatomyOptions {
-  // component name -> tissue, applied over the name/kind rule of tissue_for_component()
+  // component name -> tissue, applied over the role rule of tissue_for_component()
   std::vector<std::pair<std::string, Tissue>> tissue_overrides;
-  std::vector<Vec3> urethra;       // prostatic urethra centre line in rest space [m] (optional)
   // The urethra without a catheter is collapsed: a subtle hypoechoic line (lumen echo 0.5 of the
   // peripheral zone, 1.2 mm radius) with a faintly brighter periurethral rim, not a black band.
   double urethra_radius = 1.2e-3;  // [m]
@@ -25,24 +24,19 @@ struct AnatomyOptions {
   double voxel = 1.0e-3;           // prostate echo volume voxel [m]
 };
 
-// Name rule: "prostate" -> Prostate, "bladder" -> Bladder, "rect" -> Rectum, "gas" -> Gas,
-// a rigid component or "bone"/"pubic"/"pelvi" -> Bone, "fat" -> Fat, otherwise Soft.
+// By role (Component::role): prostate -> Prostate, bladder -> Bladder, rectum -> Rectum,
+// gas -> Gas, bone -> Bone, fat -> Fat; urethra, lesion, skin and other -> Soft.
 Tissue tissue_for_component(const Component& c);
 
-// Echogenicity of one prostate particle from its tags: a tag named lesion*/tumo(u)r* -> 0.3
+// Echogenicity of one prostate particle from its tags: a tag whose role is lesion -> 0.3
 // (hypoechoic: ~60 % of peripheral-zone cancers on TRUS), peripheral 1.0 (the isoechoic
 // reference), transition 0.75, anterior fibromuscular stroma 0.55, untagged 0.9.
 float prostate_particle_echo(const Model& m, int particle);
 
 UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt = {});
 
-// Reads a urethra centre line (assets/anatomy/urethra.csv: `x_mm,y_mm,z_mm` rows, '#' comments),
-// scaled by unit_scale [m per file unit] and translated by `translate` [m]. InputError
-// (file:line) on a malformed row.
-std::vector<Vec3> read_urethra_csv(const std::string& path, double unit_scale, const Vec3& translate);
-
 // Reads prostatic calcifications (assets/anatomy/calcifications.csv: `x_mm,y_mm,z_mm,radius_mm`
-// rows, '#' comments), scaled and translated like read_urethra_csv(). InputError (file:line) on a
+// rows, '#' comments), scaled by unit_scale [m per file unit] and translated by `translate` [m]. InputError (file:line) on a
 // malformed row or a radius outside (0, 10] mm.
 std::vector<std::pair<Vec3, double>> read_calcifications_csv(const std::string& path, double unit_scale, const Vec3& translate);
 

@@ -127,13 +127,11 @@ void scene_from_snapshot(const Snapshot& snap, const ProbeView& probe, Ultrasoun
 
 UltrasoundAnatomy anatomy_for_scenario(const ScenarioSpec& spec, const Model& model) {
   AnatomyOptions opt;
-  for (const ComponentSpec& c : spec.components) {
-    if (c.shape.kind != ShapeSpec::Mesh || c.name.find("prostate") == std::string::npos) continue;
+  for (size_t i = 0; i < spec.components.size() && i < model.components.size(); ++i) {
+    const ComponentSpec& c = spec.components[i];  // compile keeps the file's order of components
+    if (c.shape.kind != ShapeSpec::Mesh || model.components[i].role != Role::Prostate) continue;
     const MeshShapeSpec& m = c.shape.mesh;
-    const std::filesystem::path u = std::filesystem::path(m.file).parent_path() / "urethra.csv";
-    // only for an untransformed mesh: the centre line is in the mesh file's own frame
-    if (std::filesystem::exists(u) && m.rotate_deg.isZero() && m.scale.isOnes())
-      opt.urethra = read_urethra_csv(u.string(), m.unit_scale, m.translate);
+    // only for an untransformed mesh: the foci are in the mesh file's own frame
     const std::filesystem::path k = std::filesystem::path(m.file).parent_path() / "calcifications.csv";
     if (std::filesystem::exists(k) && m.rotate_deg.isZero() && m.scale.isOnes())
       opt.calcifications = read_calcifications_csv(k.string(), m.unit_scale, m.translate);

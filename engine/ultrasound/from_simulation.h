@@ -46,9 +46,9 @@ bool probe_view_from_snapshot(const Snapshot& snapshot, ProbeView& probe);
 // probe from `probe` (the render thread keeps the probe frame it was given with the snapshot).
 void scene_from_snapshot(const Snapshot& snapshot, const ProbeView& probe, UltrasoundScene& scene);
 
-// The anatomy of a compiled scenario, with the urethra read from urethra.csv and the
-// calcifications from calcifications.csv beside the prostate's mesh file when they exist (the
-// default anatomy, assets/anatomy/; a case without the file has none).
+// The anatomy of a compiled scenario, with the Model's urethra line (Model::urethra) and the
+// calcifications from calcifications.csv beside the mesh file of the component whose role is
+// prostate when it exists (the default anatomy, assets/anatomy/; a case without the file has none).
 UltrasoundAnatomy anatomy_for_scenario(const ScenarioSpec& spec, const Model& model);
 
 }  // namespace ps::us

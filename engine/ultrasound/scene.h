@@ -62,7 +62,7 @@ struct RestVolume {
 // (acoustic shadow) like bone.
 constexpr float kCalcificationEcho = 4.0f;
 
-// A lesion (a tag named lesion* / tumo*, engine/model/organ.h) as MRI-TRUS fusion shows it: a
+// A lesion (a tag whose role is lesion, engine/model/role.h) as MRI-TRUS fusion shows it: a
 // sphere of its rest extent around the current centroid of its particles.
 struct UsLesion {
   std::string name;

@@ -26,6 +26,10 @@ def test_arrays_in_mm_and_the_scene_frame(biopsy):
     extent = prostate.max(axis=0) - prostate.min(axis=0)
     assert np.all(extent > 20) and np.all(extent < 80), extent
     assert len(biopsy.tagged("lesion")) > 0
+    roles = biopsy.component_roles()
+    assert len(roles) == len(names) and roles[names.index("prostate")] == "prostate"
+    assert roles[names.index("pubic_arch")] == "bone"
+    assert biopsy.tag_roles()["lesion"] == "lesion" and biopsy.tag_roles()["peripheral"] == "other"
     with pytest.raises(ValueError, match="'tag'"):
         biopsy.tagged("no_such_tag")
 

@@ -45,15 +45,10 @@ struct Replay {
     }
     EXPECT_TRUE(run->advance_to(static_cast<int64_t>(std::llround(seconds / scene.model->dt))));
   }
-  std::string urethra() const {
-    for (const auto& c : scene.spec.components)
-      if (c.name == "prostate") return urethra_file_beside(c.shape.mesh.file);
-    return {};
-  }
 };
 
 Image render_view(Replay& r, View view, int w, int h, bool displacement = false) {
-  Renderer rd(make_render_scene(*r.scene.model, r.urethra()));
+  Renderer rd(make_render_scene(*r.scene.model));
   const Snapshot& s = r.run->snapshot();
   rd.update(s);
   OrbitCamera orbit;

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 
 #include "app/labelmap/label_volume.h"
@@ -132,6 +133,11 @@ TEST_F(PatientCase, NiftiRoundTripKeepsSurfacesAndVolumes) { expect_round_trip(*
 TEST_F(PatientCase, ScenarioPassesCheckAndSimulates) {
   const fs::path out = *dir_ / "sim_case";
   ASSERT_EQ(ps::test::run_cli("make-anatomy --from-labels " + (*dir_ / "seg.nrrd").string() + " --labels " + kLabels + " --out " + out.string()).code, 0);
+  // every organ says its role: the case does not depend on its names meaning anything
+  std::ifstream yaml(out / "scenario.yaml");
+  const std::string text((std::istreambuf_iterator<char>(yaml)), std::istreambuf_iterator<char>());
+  for (const char* r : {"prostate", "rectum", "fat"})
+    EXPECT_NE(text.find("    role: " + std::string(r) + "\n"), std::string::npos) << r;
   const ps::test::CliResult c = ps::test::run_cli("check " + (out / "scenario.yaml").string());
   ASSERT_EQ(c.code, 0) << c.out;
   EXPECT_EQ(c.out.find("warning"), std::string::npos) << c.out;

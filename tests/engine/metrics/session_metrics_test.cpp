@@ -132,6 +132,50 @@ TEST(SessionMetrics, BiopsyCoreInTheTumourIsALesionHit) {
   EXPECT_EQ(r.cores_per_zone[0].first, "outside the gland");
 }
 
+// The biopsy scene with its deep block renamed: whether a core in it is a lesion hit is the
+// block's role, not its name.
+std::string renamed_biopsy(const std::string& role) {
+  std::string y = test::biopsy_yaml();
+  for (size_t at; (at = y.find("tumour")) != std::string::npos;) y.replace(at, 6, "deep_block");
+  y.replace(y.find("{name: deep_block, "), 19, "{name: deep_block, " + role);
+  return y + "      target_mm: [1.3, 0.9, -22]\n      planned_site: anywhere\n";
+}
+
+TEST(SessionMetrics, ACoreIsALesionHitByTheRoleNotTheName) {
+  auto lesion = test::make_needle_scene(renamed_biopsy("role: lesion, "));
+  const SessionReport r = run_session(lesion, 0.7);
+  ASSERT_EQ(r.cores.size(), 1u);
+  EXPECT_TRUE(r.cores[0].lesion_hit);
+  EXPECT_EQ(r.lesions_targeted, 1);
+  auto plain = test::make_needle_scene(renamed_biopsy(""));
+  const SessionReport q = run_session(plain, 0.7);
+  ASSERT_EQ(q.cores.size(), 1u);
+  EXPECT_FALSE(q.cores[0].lesion_hit);
+  EXPECT_EQ(q.lesions_targeted, 0);
+}
+
+// A needle from the tissue block into a second block below it: that block's role decides which
+// structure the needle hit (a name that reads "gland" does not make it the gland).
+TEST(SessionMetrics, TheStructureHitIsTheComponentsRole) {
+  auto hits = [](const std::string& role) {
+    test::BlockOptions o;
+    o.depth_mm = 16;
+    o.walls = false;
+    o.extra_components = "  - {name: gland_left_thing, " + role +
+                         "material: tissue, spacing_mm: 4, box: {min_mm: [-12, -12, -40], max_mm: [12, 12, -20]}}\n";
+    o.extra_puncture = ", gland_left_thing: 1.5";  // a wall the needle punctures: the event of the hit
+    o.extra_constraints = "  - fix: {component: gland_left_thing, region: {box: {min_mm: [-100, -100, -41], max_mm: [100, 100, -39]}}}\n";
+    std::string y = test::block_yaml(o, test::vertical_needle("n", 1.3, 0.9, "[[0, 0], [0.6, 30]]"));
+    y.replace(y.find("constraints:\n"), 13, "links:\n  - {a: tissue, b: gland_left_thing, distance_mm: 5}\nconstraints:\n");
+    auto s = test::make_needle_scene(y);
+    const SessionReport r = run_session(s, 0.8);
+    return r.needles.at(0).structures_hit;
+  };
+  EXPECT_EQ(hits("role: bladder, "), std::vector<std::string>{"bladder"});
+  EXPECT_EQ(hits("role: rectum, "), std::vector<std::string>{"rectal wall"});
+  EXPECT_TRUE(hits("").empty());  // by name: the gland, not a structure to avoid
+}
+
 TEST(SessionMetrics, SeedsAgainstTheirPlannedSitesCarriedByTheTissue) {
   test::BlockOptions o;
   auto s = test::make_needle_scene(

@@ -32,7 +32,7 @@ TEST(Biopsy12Core, TwelveCoresAtTwelveSitesScoreNinety) {
   const Watchdog dog(*sc.model);
   run.runner().set_watchdog(&dog);
   const auto& needles = *sc.tools.as<NeedleTool>();
-  SessionMetrics metrics(*sc.model, needles, metrics_options_for(sc.spec));
+  SessionMetrics metrics(*sc.model, needles, metrics_options_for(sc.spec, *sc.model));
   const int64_t end = static_cast<int64_t>(std::llround(s.duration / sc.model->dt));
   while (run.tick() < end) {
     ASSERT_TRUE(run.step()) << run.runner().fault_text();

@@ -12,7 +12,7 @@
 
 #include "engine/metrics/metrics_options.h"
 #include "engine/metrics/session_metrics.h"
-#include "engine/model/organ.h"
+#include "engine/model/role.h"
 #include "engine/realtime/script.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/scene.h"
@@ -162,7 +162,7 @@ TEST(NeedleGuide, ReArmsAfterACoreAndTakesTheNextOne) {
 
 TEST(NeedleGuide, DrivenTooDeepItEntersTheBladder) {
   Biopsy b = load_biopsy();
-  SessionMetrics metrics(b.m(), *b.needles, metrics_options_for(b.scene.spec));
+  SessionMetrics metrics(b.m(), *b.needles, metrics_options_for(b.scene.spec, *b.scene.model));
   ProbePose p = b.probe->pose();
   p.insertion = 45e-3;
   b.probe->move_to(p, 0.3);
