@@ -19,7 +19,7 @@
 #include "engine/metrics/implant_dosimetry.h"
 #include "engine/metrics/metrics_options.h"
 #include "engine/sim/scene.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/probe/probe.h"
 #include "engine/util/atomic_file.h"
 #include "engine/util/error.h"
 

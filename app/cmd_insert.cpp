@@ -20,9 +20,9 @@
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/scene.h"
-#include "engine/tools/needle_output.h"
+#include "engine/tools/needle/needle_output.h"
 #include "engine/util/error.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 
 namespace ps::app {
 

@@ -39,8 +39,8 @@
 #include "haptics/spacemouse.h"
 #if PROSTATESIM_IGTL
 #include "igtl/server.h"
-#include "engine/tools/probe.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/probe/probe.h"
+#include "engine/tools/needle/needle.h"
 #endif
 
 namespace ps::app {

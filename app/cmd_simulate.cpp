@@ -1,7 +1,7 @@
 // `prostatesim simulate SCENARIO [--duration S | --until-rest] --out DIR`
 // Parses and compiles first: bad input exits 2 before anything is written to DIR.
 // Writes particles.csv, summary.json, one OBJ per component surface and displacement.csv (every
-// particle's displacement from the start of the run, engine/tools/displacement_field.h: colour
+// particle's displacement from the start of the run, engine/tools/probe/displacement_field.h: colour
 // by u_mm), and prints the prostate's displacement (mean, max, per zone along +z) when the scene
 // has a component named prostate.
 #include <spdlog/spdlog.h>
@@ -14,10 +14,10 @@
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/scene.h"
-#include "engine/tools/displacement_field.h"
-#include "engine/tools/filling.h"
-#include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/probe/displacement_field.h"
+#include "engine/tools/filling/filling.h"
+#include "engine/tools/needle/needle.h"
+#include "engine/tools/probe/probe.h"
 
 namespace ps::app {
 

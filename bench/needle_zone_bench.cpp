@@ -24,7 +24,7 @@
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/step/simulation.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 
 namespace ps::bench {
 namespace {

@@ -1,4 +1,4 @@
-// Probe contact cost, FCL broad phase against the analytic box (engine/tools/probe.h), in the
+// Probe contact cost, FCL broad phase against the analytic box (engine/tools/probe/probe.h), in the
 // probe test scene (config/validation/probe_pelvis_box.yaml) with the probe pushed 6 mm and
 // tilted 4 degrees and the tissue settled against it (~60 particles on the probe):
 //  - BM_ProbeCandidates: finding the substep's candidates and projecting them (the probe's
@@ -8,7 +8,7 @@
 //  - BM_ProbeCandidatesBiopsy: the hook in the default anatomy (below).
 #include <benchmark/benchmark.h>
 
-#include "tests/engine/tools/probe_scene.h"
+#include "tests/engine/tools/probe/probe_scene.h"
 
 namespace ps::bench {
 

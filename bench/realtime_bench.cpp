@@ -20,9 +20,9 @@
 #include "bench/realtime_scenes.h"
 #include "engine/scenario/compile.h"
 #include "engine/sim/scene.h"
-#include "engine/tools/filling.h"
-#include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/filling/filling.h"
+#include "engine/tools/needle/needle.h"
+#include "engine/tools/probe/probe.h"
 #include "engine/util/thread_cpu_time.h"
 #include "engine/tools/tool_kind.h"
 

@@ -15,9 +15,9 @@
 #include "bench/scenes.h"
 #include "engine/sim/run.h"
 #include "engine/sim/scene.h"
-#include "engine/tools/filling.h"
-#include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/filling/filling.h"
+#include "engine/tools/needle/needle.h"
+#include "engine/tools/probe/probe.h"
 
 namespace ps::bench {
 

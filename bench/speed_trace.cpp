@@ -14,7 +14,7 @@
 #include "engine/realtime/scripted_run.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/scene.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 
 namespace ps::bench {
 

@@ -10,7 +10,7 @@
 //   - the triplet statistics behind the shape-memory stiffness: quality |n|/longest^2 and the
 //     amplification |b| longest/|n| of the normal term (how far a vertex's motion moves P*).
 // Tools (needle coupling springs) are not part of the compiled model; their own bound is in
-// engine/tools/needle_coupling.cpp.
+// engine/tools/needle/needle_coupling.cpp.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -9,9 +9,9 @@
 #include "bench/bench_modes.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
-#include "engine/tools/filling.h"
-#include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/filling/filling.h"
+#include "engine/tools/needle/needle.h"
+#include "engine/tools/probe/probe.h"
 #include "engine/tools/tool_kind.h"
 
 #if __has_include(<valgrind/callgrind.h>)

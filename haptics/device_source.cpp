@@ -1,5 +1,5 @@
 #include "haptics/device_source.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 
 #include <algorithm>
 #include <cmath>

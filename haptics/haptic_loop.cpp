@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "haptics/simulated_hand.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 
 namespace ps::haptics {
 

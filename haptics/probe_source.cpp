@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engine/tools/probe.h"
+#include "engine/tools/probe/probe.h"
 
 namespace ps::haptics {
 

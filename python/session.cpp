@@ -7,7 +7,7 @@
 #include "engine/metrics/score.h"
 #include "engine/realtime/script_entry.h"
 #include "engine/realtime/state_file.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 #include "engine/ultrasound/from_simulation.h"
 #include "engine/util/error.h"
 

@@ -91,7 +91,7 @@ MAX_OFFSET_MM = 6
 
 
 def guide(roll, tilt, yaw, insertion, offset):
-    """exit and direction of the guide at a pose (engine/tools/probe_geometry.cpp), and the probe's
+    """exit and direction of the guide at a pose (engine/tools/probe/probe_geometry.cpp), and the probe's
     tip and axis. offset: transverse shift (x, y) of the pivot [mm]."""
     lateral = cross(AXIS, ANTERIOR)
     def pose(v):  # AA(tilt, lateral) * AA(yaw, -anterior) * AA(roll, axial) v

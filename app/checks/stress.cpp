@@ -16,9 +16,9 @@
 #include "engine/scenario/compile.h"
 #include "engine/sim/watchdog.h"
 #include "engine/step/simulation.h"
-#include "engine/tools/filling.h"
-#include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/filling/filling.h"
+#include "engine/tools/needle/needle.h"
+#include "engine/tools/probe/probe.h"
 #include "engine/tools/tool_kind.h"
 #include "engine/util/error.h"
 

@@ -26,7 +26,7 @@
 #include "engine/util/sim_fault.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
-#include "engine/tools/needle_output.h"
+#include "engine/tools/needle/needle_output.h"
 
 namespace ps::app {
 

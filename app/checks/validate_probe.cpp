@@ -13,8 +13,8 @@
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/step/stages.h"
-#include "engine/tools/filling.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/filling/filling.h"
+#include "engine/tools/probe/probe.h"
 
 namespace ps::app {
 

@@ -11,7 +11,7 @@
 
 #include "app/checks/validation.h"
 #include "engine/model/model.h"
-#include "engine/tools/displacement_field.h"
+#include "engine/tools/probe/displacement_field.h"
 
 namespace ps::app {
 
@@ -29,7 +29,7 @@ struct DisplacementStudy {
 // Runs one study by name (throws std::invalid_argument for an unknown name, std::runtime_error
 // on a simulation fault).
 DisplacementStudy run_displacement_study(const std::string& source_dir, const std::string& name);
-// Per-particle displacement file of the study (engine/tools/displacement_field.h CSV), every
+// Per-particle displacement file of the study (engine/tools/probe/displacement_field.h CSV), every
 // component, zones along +z, written atomically.
 void write_study_csv(const DisplacementStudy& study, const std::string& path);
 

@@ -5,7 +5,7 @@
 #include <cstdlib>
 
 #include "engine/model/role.h"
-#include "engine/tools/probe_geometry.h"
+#include "engine/tools/probe/probe_geometry.h"
 #include "engine/util/error.h"
 
 namespace ps::editor {

@@ -11,7 +11,7 @@
 #include "engine/util/error.h"
 #include "engine/ultrasound/from_simulation.h"
 #include "render/render_scene.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 
 namespace ps::frames {
 

@@ -12,8 +12,8 @@
 #include "engine/metrics/session_metrics.h"
 #include "engine/metrics/sextant_map.h"
 #include "engine/metrics/tracked_point.h"
-#include "engine/tools/needle_events.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle_events.h"
+#include "engine/tools/needle/needle.h"
 
 namespace ps::gui {
 

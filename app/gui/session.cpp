@@ -2,9 +2,9 @@
 
 #include <algorithm>
 
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 #include "engine/util/error.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/probe/probe.h"
 
 namespace ps::gui {
 

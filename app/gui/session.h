@@ -9,7 +9,7 @@
 
 #include "app/core/run_session.h"
 #include "engine/sim/watchdog.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/probe/probe.h"
 #include "render/renderer.h"
 
 namespace ps::gui {

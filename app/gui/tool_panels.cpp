@@ -1,9 +1,9 @@
 #include "app/gui/tool_panels.h"
 
 #include "app/gui/session.h"
-#include "engine/tools/filling.h"
-#include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/filling/filling.h"
+#include "engine/tools/needle/needle.h"
+#include "engine/tools/probe/probe.h"
 
 namespace ps::gui {
 

@@ -6,14 +6,14 @@
 
 #include "app/session/session_report.h"
 #include "app/session/session_views.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/probe/probe.h"
 #include "engine/ultrasound/from_simulation.h"
 #include "engine/io/png_write.h"
 #include "engine/metrics/metrics_json.h"
 #include "engine/metrics/metrics_options.h"
 #include "engine/util/atomic_file.h"
 #include "engine/util/error.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 
 namespace ps::app {
 

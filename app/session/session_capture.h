@@ -19,7 +19,7 @@
 #include "engine/metrics/session_metrics.h"
 #include "engine/realtime/tick_runner.h"
 #include "engine/sim/scene.h"
-#include "engine/tools/needle_output.h"
+#include "engine/tools/needle/needle_output.h"
 #include "engine/ultrasound/scene.h"
 
 namespace ps::app {

@@ -14,7 +14,7 @@
 #include "app/session/session_views.h"
 #include "engine/metrics/score.h"
 #include "engine/metrics/session_metrics.h"
-#include "engine/tools/needle_output.h"
+#include "engine/tools/needle/needle_output.h"
 
 namespace ps::app {
 

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/needle/needle.h"
+#include "engine/tools/probe/probe.h"
 #include "engine/util/atomic_file.h"
 
 namespace ps {

@@ -1,7 +1,7 @@
 #include "engine/metrics/implant_dosimetry.h"
 
 #include "engine/dosimetry/organ_mask.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/probe/probe.h"
 #include "engine/util/error.h"
 
 namespace ps {

@@ -11,7 +11,7 @@
 #include "engine/dosimetry/dvh.h"
 #include "engine/dosimetry/plan.h"
 #include "engine/model/model.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 
 namespace ps {
 

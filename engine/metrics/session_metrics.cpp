@@ -5,7 +5,7 @@
 
 #include "engine/metrics/planned_sites.h"
 #include "engine/model/role.h"
-#include "engine/tools/biopsy.h"
+#include "engine/tools/needle/biopsy.h"
 #include "engine/util/error.h"
 
 namespace ps {

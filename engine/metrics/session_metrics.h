@@ -45,7 +45,7 @@
 #include "engine/metrics/planned_sites.h"
 #include "engine/metrics/tracked_point.h"
 #include "engine/state/state.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 
 namespace ps {
 

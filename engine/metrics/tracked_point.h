@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "engine/model/model.h"
-#include "engine/tools/needle_anchor.h"
+#include "engine/tools/needle/needle_anchor.h"
 
 namespace ps {
 

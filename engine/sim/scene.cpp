@@ -5,7 +5,7 @@
 
 #include "engine/metrics/metrics_options.h"
 #include "engine/scenario/parse_yaml.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 #include "engine/util/error.h"
 #include "engine/util/state_io.h"
 

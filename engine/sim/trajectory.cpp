@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "engine/sim/run.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 #include "engine/tools/tool_kind.h"
 
 namespace ps {

@@ -114,7 +114,7 @@ struct LinkSpec {
   SourceLoc loc;
 };
 
-// --- probe: and filling: sections (engine/tools/probe.h, engine/tools/filling.h) ---------------
+// --- probe: and filling: sections (engine/tools/probe/probe.h, engine/tools/filling/filling.h) ---------------
 // Probe pose in the rectal frame (entry point E, axis a, anterior n, lateral a x n): pivot
 // E + offset, tip-hemisphere centre pivot + insertion * R a, R = tilt(a x n) * yaw(-n) * roll(a).
 struct ProbePose {
@@ -237,8 +237,8 @@ struct ScenarioSpec {
   std::vector<TagSpec> tags;                 // tags: named particle regions
   std::optional<ZonesSpec> prostate_zones;   // prostate_zones: zone tags on the prostate
   std::optional<LesionsSpec> lesions;        // lesions: placed from a seed (needs prostate_zones)
-  std::optional<ProbeSpec> probe;  // probe: section (engine/tools/probe.h)
-  std::optional<FillingSpec> filling;  // filling: section (engine/tools/filling.h)
+  std::optional<ProbeSpec> probe;  // probe: section (engine/tools/probe/probe.h)
+  std::optional<FillingSpec> filling;  // filling: section (engine/tools/filling/filling.h)
   NeedleSetSpec needles;           // needles: section (engine/spec/needle_spec.h)
 };
 

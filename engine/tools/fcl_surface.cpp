@@ -11,7 +11,7 @@
 
 #include <stdexcept>
 
-#include "engine/tools/probe_geometry.h"
+#include "engine/tools/probe/probe_geometry.h"
 
 namespace ps {
 

@@ -3,7 +3,7 @@
 // hierarchy (BVHModel<AABB>) over the surfaces' triangles, built once at rest and refitted to
 // the particles' current positions, and traversed by FCL against an fcl::Capsule to find the
 // triangles with a corner within the capsule (inflated by a margin by the caller). The caller
-// then projects those corners exactly (engine/tools/probe.cpp); FCL only finds them.
+// then projects those corners exactly (engine/tools/probe/probe.cpp); FCL only finds them.
 //
 // No allocation after construction (it runs inside the physics step), which needed three
 // choices, each measured with the counting allocator (tests/engine/tools/fcl_surface_test.cpp):

@@ -1,9 +1,9 @@
 // The registry's one list (engine/tools/tool_kind.h): a new kind adds one line, last.
 #include "engine/tools/tool_kind.h"
 
-#include "engine/tools/filling.h"
-#include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/filling/filling.h"
+#include "engine/tools/needle/needle.h"
+#include "engine/tools/probe/probe.h"
 
 namespace ps {
 

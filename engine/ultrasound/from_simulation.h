@@ -1,6 +1,6 @@
 // Adapters that fill the ultrasound inputs (scene.h) from the simulation, so the app, the
 // renderer's panels and the CLI call the image generator the same way:
-//  - probe_view(): the ProbeView of a probe frame (engine/tools/probe_geometry.h);
+//  - probe_view(): the ProbeView of a probe frame (engine/tools/probe/probe_geometry.h);
 //  - scene_from_state(): positions from State::x (copied into the scene, float), needles from
 //    the NeedleTool read-outs (shaft = tip back along the direction over the needle's length),
 //    deposited seeds (4.5 mm x 0.8 mm rods along their needle), the biopsy guide and template holes;
@@ -13,8 +13,8 @@
 
 #include "engine/contract/snapshot.h"
 #include "engine/step/simulation.h"
-#include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/needle/needle.h"
+#include "engine/tools/probe/probe.h"
 #include "engine/ultrasound/anatomy.h"
 #include "engine/ultrasound/scene.h"
 

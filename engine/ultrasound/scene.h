@@ -99,7 +99,7 @@ struct OverlayLine {
   Vec3 direction = Vec3::UnitZ();  // unit
 };
 
-// The probe as the imager needs it (engine/tools/probe_geometry.h ProbeFrame).
+// The probe as the imager needs it (engine/tools/probe/probe_geometry.h ProbeFrame).
 struct ProbeView {
   Vec3 tip_centre = Vec3::Zero();  // tip-hemisphere centre B [m]
   Vec3 axis = Vec3::UnitZ();       // probe axis d (insertion direction), unit

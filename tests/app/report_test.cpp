@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "tests/app/run_cli.h"
-#include "tests/engine/tools/needle_scenes.h"
+#include "tests/engine/tools/needle/needle_scenes.h"
 
 namespace {
 

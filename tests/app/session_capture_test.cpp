@@ -10,7 +10,7 @@
 
 #include "engine/metrics/metrics_json.h"
 #include "tests/app/run_cli.h"
-#include "tests/engine/tools/needle_scenes.h"
+#include "tests/engine/tools/needle/needle_scenes.h"
 
 namespace {
 

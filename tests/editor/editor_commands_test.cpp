@@ -15,8 +15,8 @@
 #include <fstream>
 
 #include "engine/metrics/session_metrics.h"
-#include "engine/tools/needle.h"
-#include "tests/engine/tools/needle_scenes.h"
+#include "engine/tools/needle/needle.h"
+#include "tests/engine/tools/needle/needle_scenes.h"
 
 namespace ps::editor {
 namespace {

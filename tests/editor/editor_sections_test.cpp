@@ -11,8 +11,8 @@
 #include <filesystem>
 
 #include "app/editor/editor_commands.h"
-#include "engine/tools/probe.h"
-#include "engine/tools/filling.h"
+#include "engine/tools/probe/probe.h"
+#include "engine/tools/filling/filling.h"
 
 namespace ps::editor {
 namespace {

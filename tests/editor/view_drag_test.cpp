@@ -13,7 +13,7 @@
 
 #include <cmath>
 
-#include "tests/engine/tools/needle_scenes.h"
+#include "tests/engine/tools/needle/needle_scenes.h"
 
 namespace ps::editor {
 namespace {

@@ -8,10 +8,10 @@
 
 #include "engine/realtime/lockstep.h"
 #include "engine/scenario/parse_yaml.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 #include "haptics/mouse_keyboard.h"
 #include "haptics/spacemouse.h"
-#include "tests/engine/tools/needle_scenes.h"
+#include "tests/engine/tools/needle/needle_scenes.h"
 
 namespace ps::haptics {
 namespace {

@@ -10,7 +10,7 @@
 
 #include "engine/scenario/parse_yaml.h"
 #include "haptics/simulated_hand.h"
-#include "tests/engine/tools/needle_scenes.h"
+#include "tests/engine/tools/needle/needle_scenes.h"
 
 namespace ps::haptics {
 namespace {

@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/realtime/lockstep.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/probe/probe.h"
 #include "haptics/mouse_keyboard.h"
 #include "tests/engine/realtime/live_scene.h"
 

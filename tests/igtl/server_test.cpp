@@ -19,7 +19,7 @@
 #include "engine/ultrasound/imager.h"
 #include "haptics/probe_source.h"
 #include "igtl/poses.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/probe/probe.h"
 
 namespace ps::igtl {
 namespace {

@@ -13,8 +13,8 @@
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/run.h"
 #include "engine/step/simulation.h"
-#include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/needle/needle.h"
+#include "engine/tools/probe/probe.h"
 #include "engine/util/error.h"
 
 namespace ps {
@@ -220,7 +220,7 @@ TEST(ScenarioLibrary, BrachytherapyAndBladderFillingCompile) {
 }
 
 // The probe starts in the rectal lumen clear of tissue and the needles are valid for the model
-// (the tools' own start checks, engine/tools/probe.h and needle.h).
+// (the tools' own start checks, engine/tools/probe/probe.h and needle.h).
 TEST(ScenarioLibrary, ProbeAndNeedlesFitTheAnatomy) {
   for (const char* f : {"biopsy.yaml", "brachytherapy.yaml"}) {
     const ScenarioSpec spec = parse_scenario_file(config(f));

@@ -11,7 +11,7 @@
 
 #include "engine/realtime/lockstep.h"
 #include "engine/realtime/script.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/probe/probe.h"
 
 namespace ps {
 namespace {

@@ -9,7 +9,7 @@
 #include "engine/metrics/session_metrics.h"
 #include "engine/util/error.h"
 #include "tests/engine/counting_allocator.h"
-#include "tests/engine/tools/needle_scenes.h"
+#include "tests/engine/tools/needle/needle_scenes.h"
 
 namespace ps {
 namespace {

@@ -17,7 +17,7 @@
 #include "engine/realtime/lockstep.h"
 #include "engine/realtime/script.h"
 #include "engine/sim/watchdog.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 
 namespace ps {
 namespace {

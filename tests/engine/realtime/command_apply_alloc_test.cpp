@@ -19,11 +19,11 @@
 #include <string>
 
 #include "engine/realtime/lockstep.h"
-#include "engine/tools/filling.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/filling/filling.h"
+#include "engine/tools/probe/probe.h"
 #include "tests/engine/counting_allocator.h"
 #include "tests/engine/realtime/live_scene.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 
 namespace ps {
 namespace {

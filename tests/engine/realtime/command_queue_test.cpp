@@ -11,7 +11,7 @@
 
 #include "engine/realtime/command_apply.h"
 #include "tests/engine/counting_allocator.h"
-#include "tests/engine/tools/probe_scene.h"
+#include "tests/engine/tools/probe/probe_scene.h"
 
 namespace ps {
 namespace {

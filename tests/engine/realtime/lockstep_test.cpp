@@ -11,10 +11,10 @@
 
 #include "engine/realtime/recording.h"
 #include "engine/realtime/script.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 #include "tests/engine/realtime/live_scene.h"
-#include "engine/tools/probe.h"
-#include "engine/tools/filling.h"
+#include "engine/tools/probe/probe.h"
+#include "engine/tools/filling/filling.h"
 
 namespace ps {
 namespace {

@@ -12,7 +12,7 @@
 #include "engine/realtime/physics_loop.h"
 #include "engine/util/error.h"
 #include "tests/engine/realtime/live_scene.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 
 namespace ps {
 namespace {

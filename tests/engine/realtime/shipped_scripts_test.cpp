@@ -12,7 +12,7 @@
 #include "engine/realtime/lockstep.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/watchdog.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 #include "tests/engine/realtime/live_scene.h"
 
 namespace ps {

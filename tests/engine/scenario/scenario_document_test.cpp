@@ -13,7 +13,7 @@
 #include <sstream>
 
 #include "engine/step/simulation.h"
-#include "engine/tools/needle.h"
+#include "engine/tools/needle/needle.h"
 #include "engine/util/error.h"
 
 namespace ps {

@@ -13,9 +13,9 @@
 #include "engine/sim/run.h"
 #include "engine/sim/scene.h"
 #include "engine/step/simulation.h"
-#include "engine/tools/filling.h"
-#include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/filling/filling.h"
+#include "engine/tools/needle/needle.h"
+#include "engine/tools/probe/probe.h"
 
 namespace ps {
 namespace {

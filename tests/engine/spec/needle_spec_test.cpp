@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/util/error.h"
-#include "tests/engine/tools/needle_scenes.h"
+#include "tests/engine/tools/needle/needle_scenes.h"
 
 namespace ps {
 namespace {

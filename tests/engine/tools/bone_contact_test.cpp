@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/engine/tools/needle_scenes.h"
+#include "tests/engine/tools/needle/needle_scenes.h"
 
 namespace ps {
 namespace {

@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/tools/probe_geometry.h"
+#include "engine/tools/probe/probe_geometry.h"
 #include "tests/engine/counting_allocator.h"
 
 namespace ps {

@@ -9,9 +9,9 @@
 #include "engine/realtime/script.h"
 #include "engine/realtime/script_entry.h"
 #include "engine/sim/scene.h"
-#include "engine/tools/filling.h"
-#include "engine/tools/needle.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/filling/filling.h"
+#include "engine/tools/needle/needle.h"
+#include "engine/tools/probe/probe.h"
 #include "engine/tools/tool_kind.h"
 #include "engine/util/error.h"
 

@@ -9,7 +9,7 @@
 #include "engine/realtime/lockstep.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/sim/scene.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/probe/probe.h"
 
 namespace ps {
 namespace {

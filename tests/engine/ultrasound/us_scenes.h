@@ -7,7 +7,7 @@
 
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
-#include "engine/tools/probe.h"
+#include "engine/tools/probe/probe.h"
 #include "engine/ultrasound/from_simulation.h"
 #include "engine/ultrasound/imager.h"
 
