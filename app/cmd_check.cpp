@@ -4,7 +4,7 @@
 #include <ctime>
 
 #include "app/commands.h"
-#include "engine/model/model_hash.h"
+#include "engine/scenario/model_hash.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 
@@ -23,7 +23,7 @@ void add_check_command(CLI::App& app, Runner& run) {
       const double cpu_s = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
       const Model& m = *model;
       std::printf("%s: ok (compiled in %.3f s, %.3f s CPU)\n", m.name.c_str(), rep.seconds, cpu_s);
-      // The compiled model's fingerprint (engine/model/model_hash.h): equal hashes mean the same
+      // The compiled model's fingerprint (engine/scenario/model_hash.h): equal hashes mean the same
       // particles, neighbourhoods, weights and constraints, which scripts/model_hashes.sh uses to
       // show that a refactoring of compile_scenario changed nothing.
       std::printf("model hash %016llx\n", static_cast<unsigned long long>(model_hash(m)));

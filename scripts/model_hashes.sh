@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Prints "FILE HASH" for every scenario under config/ and config/validation/: the compiled model's
-# fingerprint from `prostatesim check` (engine/model/model_hash.h). Used to show that a change
+# fingerprint from `prostatesim check` (engine/scenario/model_hash.h). Used to show that a change
 # meant to be behaviour-free (a refactoring of engine/scenario/compile*.cpp, a CMake split) leaves
 # every compiled model bit-identical:
 #   bash scripts/model_hashes.sh build/app/prostatesim > before.txt   # on the old commit

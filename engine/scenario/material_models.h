@@ -39,6 +39,8 @@ struct ComponentMaterialInput {
   double volume = 0.0;  // the component's material volume (organs inside left out) [m^3]
 };
 
+class ModelHasher;  // engine/scenario/model_hash.h
+
 struct MaterialModelDesc {
   MaterialModel model;
   const char* name;  // its `model:` value in a scenario file
@@ -63,6 +65,9 @@ struct MaterialModelDesc {
   void (*add_stiffness)(const Model& m, bool fast_only, ProxyForm form, std::vector<double>& d);
   // The energy whose negative gradient the term's force is, at s [J] (tests, diagnostics).
   double (*energy)(const Model& m, const State& s);
+  // Feeds the model's elements and their materials to the compiled model's hash (model_hash.h);
+  // null when it has none beyond the per-particle arrays every model shares.
+  void (*hash)(const Model& m, ModelHasher& h);
 };
 
 extern const MaterialModelDesc kPaperMaterial;

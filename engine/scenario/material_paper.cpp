@@ -52,6 +52,6 @@ double paper_energy(const Model& m, const State& s) {
 
 const MaterialModelDesc kPaperMaterial{MaterialModel::Paper, "paper", Stage::ShapeMemory, nullptr, paper_moduli,
                                        paper_override_young, nullptr, paper_present, paper_add_forces, paper_add_stiffness,
-                                       paper_energy};
+                                       paper_energy, nullptr};
 
 }  // namespace ps

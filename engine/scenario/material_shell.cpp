@@ -6,6 +6,7 @@
 #include "engine/model/discrete_coordinates.h"
 #include "engine/model/shell_elements.h"
 #include "engine/scenario/material_models.h"
+#include "engine/scenario/model_hash.h"
 #include "engine/util/error.h"
 
 namespace ps {
@@ -67,10 +68,22 @@ void shell_add_stiffness(const Model& m, bool, ProxyForm, std::vector<double>& d
   }
 }
 
+// the membrane triangles and hinges with their rest data and moduli
+void shell_hash(const Model& m, ModelHasher& h) {
+  h.vec(m.shells.tri);
+  h.vec(m.shells.bm);
+  h.vec(m.shells.area_t);
+  h.vec(m.shells.mu);
+  h.vec(m.shells.lambda);
+  h.vec(m.shells.hinge);
+  h.vec(m.shells.theta0);
+  h.vec(m.shells.k_hinge);
+}
+
 }  // namespace
 
 const MaterialModelDesc kShellMaterial{MaterialModel::Shell, "shell", Stage::ShellElastic, shell_check, shell_moduli,
                                        shell_override_young, shell_build, shell_present, shell_add_forces, shell_add_stiffness,
-                                       shell_elastic_energy};
+                                       shell_elastic_energy, shell_hash};
 
 }  // namespace ps

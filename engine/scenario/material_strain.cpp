@@ -4,6 +4,7 @@
 
 #include "engine/model/strain_clusters.h"
 #include "engine/scenario/material_models.h"
+#include "engine/scenario/model_hash.h"
 #include "engine/util/error.h"
 
 namespace ps {
@@ -61,10 +62,24 @@ void strain_add_stiffness(const Model& m, bool, ProxyForm, std::vector<double>& 
       d[sc.member[i]] += (sc.mu2v[c] + sc.k_v[c]) * sc.g[i].squaredNorm() + sc.k_r[c];
 }
 
+// the clusters, their rest offsets, fit and gradient weights and moduli
+void strain_hash(const Model& m, ModelHasher& h) {
+  const StrainClusters& c = m.strain;
+  h.vec(c.centre);
+  h.vec(c.start);
+  h.vec(c.member);
+  for (const std::vector<Vec3>* v : {&c.d0, &c.q, &c.g})
+    for (const Vec3& x : *v)
+      for (int k = 0; k < 3; ++k) h.pod(x[k]);
+  h.vec(c.mu2v);
+  h.vec(c.k_v);
+  h.vec(c.k_r);
+}
+
 }  // namespace
 
 const MaterialModelDesc kStrainMaterial{MaterialModel::Strain, "strain", Stage::StrainMemory, strain_check, strain_moduli_of,
                                         strain_override_young, strain_build, strain_present, strain_add_forces,
-                                        strain_add_stiffness, strain_memory_energy};
+                                        strain_add_stiffness, strain_memory_energy, strain_hash};
 
 }  // namespace ps

@@ -8,6 +8,7 @@
 #include "engine/model/discrete_coordinates.h"
 #include "engine/model/tet_elements.h"
 #include "engine/scenario/material_models.h"
+#include "engine/scenario/model_hash.h"
 #include "engine/util/error.h"
 
 namespace ps {
@@ -120,9 +121,23 @@ void tet_add_stiffness(const Model& m, bool fast_only, ProxyForm form, std::vect
     for (const auto& [p, grad] : share_grad[a]) d[p] += te.node_kappa_explicit[a] * te.node_inv_vol0[a] * grad.squaredNorm();
 }
 
+// the elements' rest data and moduli, the implicit pressure's layout and the fast group
+void tet_hash(const Model& m, ModelHasher& h) {
+  h.vec(m.tets.v);
+  h.vec(m.tets.g);
+  h.vec(m.tets.vol0);
+  h.vec(m.tets.mu);
+  h.vec(m.tets.node_kappa);
+  h.vec(m.tets.node_implicit);
+  h.vec(m.tet_pressure.row_slot);
+  h.pod(m.tet_pressure.h);
+  h.pod(m.tet_pressure.iterations);
+  h.pod(m.tets.fast_count);
+}
+
 }  // namespace
 
 const MaterialModelDesc kTetMaterial{MaterialModel::Tet, "tet", Stage::TetElastic, tet_check, tet_moduli, tet_override_young,
-                                     tet_build, tet_present, tet_add_forces, tet_add_stiffness, tet_elastic_energy};
+                                     tet_build, tet_present, tet_add_forces, tet_add_stiffness, tet_elastic_energy, tet_hash};
 
 }  // namespace ps

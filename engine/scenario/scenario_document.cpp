@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "engine/metrics/tracked_point.h"
-#include "engine/model/model_hash.h"
+#include "engine/scenario/model_hash.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/tools/tool_kind.h"

@@ -152,7 +152,7 @@ TEST(Cli, CheckPrintsCountsAndStableDt) {
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("block"), std::string::npos);
   EXPECT_NE(r.out.find("largest stable substep"), std::string::npos);
-  // 16 hex digits of engine/model/model_hash.h, the same on a second compile of the same file.
+  // 16 hex digits of engine/scenario/model_hash.h, the same on a second compile of the same file.
   const size_t at = r.out.find("model hash ");
   ASSERT_NE(at, std::string::npos) << r.out;
   const std::string hash = r.out.substr(at + 11, 16);

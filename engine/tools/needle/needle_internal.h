@@ -189,6 +189,21 @@ Vec3 apply_needle_tissue_forces(NeedleTool::Needle& nd, const Model& m, State& s
 // needle_forces.cpp: the cutting force `cut` [N] onto the prepared zone, and the substep's
 // read-out (tissue force = `f_other` + cutting, axial force, peak) and puncture event
 void apply_needle_cutting(NeedleTool::Needle& nd, State& s, const Vec3& f_other, double cut, NeedleEventRing& events);
+// needle_setup.cpp: the steps of NeedleTool's constructor
+std::vector<double> needle_puncture_weights(const Model& m, const NeedleSetSpec& set);  // [components] N; InputError
+std::unique_ptr<MembraneFaces> needle_membrane_faces(const Model& m, const std::vector<double>& puncture_kc);
+struct TissueExtent {
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // box of the tissue particles at rest [m]
+  double h_global = 0.0;                      // largest tissue spacing [m]
+};
+TissueExtent tissue_extent(const Model& m);
+void size_needle_buffers(NeedleTool::Needle& nd, const Model& m, const MembraneFaces& mf);
+void resolve_tumour(NeedleTool::Needle& nd, const Model& m);  // InputError for an unknown tumour name
+void check_needle_stiffness(const NeedleSpec& spec, const Model& m, double h_sub, double m_min, std::vector<std::string>& warnings);
+// The needle's plan; m_min: the lightest planned particle so far over every needle [kg] (updated)
+std::unique_ptr<NeedleTool::Needle> plan_needle(const Model& m, const NeedleSpec& spec, int index, const TissueExtent& ext,
+                                                const MembraneFaces& mf, const std::vector<double>& puncture_kc, double& m_min,
+                                                std::vector<std::string>& warnings);
 // needle_motion.cpp: commanded pose at time t
 void needle_command(const NeedleTool::Needle& nd, double t, Vec3& tip, Vec3& dir, Vec3& vel);
 // needle_motion.cpp: computeNeedleMovement + adjustIntensityNeedleVelocity + bone stop; the

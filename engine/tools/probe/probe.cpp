@@ -48,8 +48,27 @@ MeshQuery rest_surface_query(const Model& m, int component) {
 }  // namespace
 
 ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), rectal_(rectal_frame(spec)) {
-  const std::string& file = spec.loc.file;
-  const int line = spec.loc.line;
+  int rectum = -1, prostate = -1;
+  const std::vector<uint8_t> in_set = contact_set(m, rectum, prostate);
+  pose_ = spec.pose;
+  frame_ = check_start_pose(m, in_set, rectum);
+  lengthen_scripted_moves();
+  std::vector<uint8_t> on_constrained(m.particle_count(), 0);
+  for (const Surface& s : m.surfaces)
+    if (s.volume_constrained)
+      for (int p : s.vertices) on_constrained[p] = 1;
+  collect_candidates(m, in_set, on_constrained);
+  build_broad_phase(m);
+  if (spec.imposed_mode) couple_imposed(m, rectum, prostate, on_constrained);
+  else couple_start_.assign(cand_.size() + 1, 0);
+}
+
+// Which components the probe pushes, and its rectum and (imposed mode) prostate; InputError naming
+// the probe's field.
+std::vector<uint8_t> ProbeTool::contact_set(const Model& m, int& rectum, int& prostate) const {
+  const ProbeSpec& spec = spec_;
+  const std::string& file = spec_.loc.file;
+  const int line = spec_.loc.line;
   auto fail = [&](int at, const std::string& field, const std::string& msg) { throw InputError(file, at, field, msg); };
   auto component = [&](const std::string& name, const std::string& field) {
     const int c = m.find_component(name);
@@ -57,8 +76,6 @@ ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), recta
     return c;
   };
   const int nc = static_cast<int>(m.components.size());
-
-  // which components the probe pushes
   std::vector<uint8_t> in_set(nc, 0);
   if (spec.contact_components.empty()) {
     for (int c = 0; c < nc; ++c) in_set[c] = m.components[c].kind != ComponentKind::Rigid;
@@ -70,7 +87,6 @@ ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), recta
       in_set[c] = 1;
     }
   }
-  int rectum = -1, prostate = -1;
   if (!spec.rectum.empty()) rectum = component(spec.rectum, "probe.contact.rectum");
   else rectum = m.find_role(Role::Rectum);
   if (spec.imposed_mode) {
@@ -81,11 +97,17 @@ ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), recta
     in_set[rectum] = 1;
   }
 
-  // start pose: inside the rectal lumen, clear of bone and tissue
-  pose_ = spec.pose;
+  return in_set;
+}
+
+// The start pose is inside the rectal lumen, clear of bone and of the tissue it pushes.
+ProbeFrame ProbeTool::check_start_pose(const Model& m, const std::vector<uint8_t>& in_set, int rectum) const {
+  const ProbeSpec& spec = spec_;
+  const int nc = static_cast<int>(m.components.size());
+  auto fail = [&](int at, const std::string& field, const std::string& msg) { throw InputError(spec.loc.file, at, field, msg); };
   if (!finite_pose(pose_)) fail(spec.pose_loc.line, "probe.pose", "non-finite pose value");
-  frame_ = probe_frame(spec_, rectal_, pose_);
-  const Capsule& cap = frame_.capsule;
+  const ProbeFrame frame = probe_frame(spec_, rectal_, pose_);
+  const Capsule& cap = frame.capsule;
   const Vec3 axis_pts[3] = {cap.back, 0.5 * (cap.back + cap.tip), cap.tip};
   if (rectum >= 0 && m.components[rectum].surface >= 0) {
     const MeshQuery q = rest_surface_query(m, rectum);
@@ -117,8 +139,13 @@ ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), recta
                " inside it; start the probe in the rectal lumen");
   }
 
-  // scripted moves, lengthened to the speed limits (a dry run of the schedule gives each
-  // move's starting pose)
+  return frame;
+}
+
+// The scenario's moves, lengthened to the speed limits (a dry run of the schedule gives each
+// move's starting pose), each lengthening reported.
+void ProbeTool::lengthen_scripted_moves() {
+  const ProbeSpec& spec = spec_;
   script_ = spec.moves;
   std::stable_sort(script_.begin(), script_.end(), [](const ProbeMoveSpec& a, const ProbeMoveSpec& b) { return a.t0 < b.t0; });
   Move act{0.0, 0.0, pose_, pose_};
@@ -141,12 +168,10 @@ ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), recta
     act = Move{mv.t0, mv.t1, from, to};
   }
   active_ = Move{0.0, 0.0, pose_, pose_};
+}
 
-  // contact candidates
-  std::vector<uint8_t> on_constrained(m.particle_count(), 0);
-  for (const Surface& s : m.surfaces)
-    if (s.volume_constrained)
-      for (int p : s.vertices) on_constrained[p] = 1;
+// Contact candidates: the particles of the pushed components, and bone (held, never moved).
+void ProbeTool::collect_candidates(const Model& m, const std::vector<uint8_t>& in_set, const std::vector<uint8_t>& on_constrained) {
   for (int p = 0; p < m.particle_count(); ++p) {
     // held particles of the set and bone are candidates too, never moved: blocked_count()
     const bool bone = m.components[m.component_of[p]].kind == ComponentKind::Rigid;
@@ -157,8 +182,11 @@ ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), recta
     volume_coupled_ |= on_constrained[p] != 0;
   }
   hit_.assign(cand_.size(), 0);
+}
 
-  // the FCL broad phase (ProbeBroadPhase::Fcl): a tree over the surfaces of the components that hold candidates
+// The FCL broad phase (ProbeBroadPhase::Fcl): a tree over the surfaces of the components that hold
+// candidates; candidates on none of them are tested every substep.
+void ProbeTool::build_broad_phase(const Model& m) {
   cand_of_.assign(m.particle_count(), -1);
   for (size_t i = 0; i < cand_.size(); ++i) cand_of_[cand_[i]] = static_cast<int>(i);
   std::vector<std::array<int, 3>> faces;
@@ -176,38 +204,41 @@ ProbeTool::ProbeTool(const ProbeSpec& spec, const Model& m) : spec_(spec), recta
   else broad_ = ProbeBroadPhase::Box;
   near_.reserve(cand_.size());
   near_mark_.assign(cand_.size(), 0);
+}
 
-  // imposed mode: rectum candidate -> prostate particles within couple_distance at rest
+// Imposed mode: each rectum candidate -> the prostate particles within couple_distance at rest.
+void ProbeTool::couple_imposed(const Model& m, int rectum, int prostate, const std::vector<uint8_t>& on_constrained) {
+  const ProbeSpec& spec = spec_;
+  const int line = spec.loc.line;
+  auto fail = [&](int at, const std::string& field, const std::string& msg) { throw InputError(spec.loc.file, at, field, msg); };
   couple_start_.assign(cand_.size() + 1, 0);
-  if (spec.imposed_mode) {
-    const Component& R = m.components[rectum];
-    const Component& P = m.components[prostate];
-    const double dist = spec.couple_distance > 0.0 ? spec.couple_distance : 1.5 * std::max(R.spacing, P.spacing);
-    std::vector<int> slot_of(m.particle_count(), -1);
-    for (size_t i = 0; i < cand_.size(); ++i) {
-      couple_start_[i] = static_cast<int>(couple_slot_.size());
-      const int p = cand_[i];
-      if (m.component_of[p] != rectum) continue;
-      for (int t = P.first_particle; t < P.first_particle + P.particle_count; ++t) {
-        if (m.inv_mass[t] == 0.0 || m.locked_axes[t] != 0) continue;
-        if ((m.rest_pos[t] - m.rest_pos[p]).norm() > dist) continue;
-        if (slot_of[t] < 0) {
-          slot_of[t] = static_cast<int>(target_.size());
-          target_.push_back(t);
-          volume_coupled_ |= on_constrained[t] != 0;
-        }
-        couple_slot_.push_back(slot_of[t]);
+  const Component& R = m.components[rectum];
+  const Component& P = m.components[prostate];
+  const double dist = spec.couple_distance > 0.0 ? spec.couple_distance : 1.5 * std::max(R.spacing, P.spacing);
+  std::vector<int> slot_of(m.particle_count(), -1);
+  for (size_t i = 0; i < cand_.size(); ++i) {
+    couple_start_[i] = static_cast<int>(couple_slot_.size());
+    const int p = cand_[i];
+    if (m.component_of[p] != rectum) continue;
+    for (int t = P.first_particle; t < P.first_particle + P.particle_count; ++t) {
+      if (m.inv_mass[t] == 0.0 || m.locked_axes[t] != 0) continue;
+      if ((m.rest_pos[t] - m.rest_pos[p]).norm() > dist) continue;
+      if (slot_of[t] < 0) {
+        slot_of[t] = static_cast<int>(target_.size());
+        target_.push_back(t);
+        volume_coupled_ |= on_constrained[t] != 0;
       }
+      couple_slot_.push_back(slot_of[t]);
     }
-    couple_start_[cand_.size()] = static_cast<int>(couple_slot_.size());
-    if (target_.empty())
-      fail(line, "probe.contact.couple_distance_mm",
-           "no particle of '" + P.name + "' lies within " + mm(dist) + " of '" + R.name +
-               "' at rest: the imposed mode needs the prostate to touch the rectum");
-    local_.assign(target_.size(), Vec3::Zero());
-    coupled_.assign(target_.size(), 0);
-    touched_.assign(target_.size(), 0);
   }
+  couple_start_[cand_.size()] = static_cast<int>(couple_slot_.size());
+  if (target_.empty())
+    fail(line, "probe.contact.couple_distance_mm",
+         "no particle of '" + P.name + "' lies within " + mm(dist) + " of '" + R.name +
+             "' at rest: the imposed mode needs the prostate to touch the rectum");
+  local_.assign(target_.size(), Vec3::Zero());
+  coupled_.assign(target_.size(), 0);
+  touched_.assign(target_.size(), 0);
 }
 
 ProbePose ProbeTool::evaluate(const Move& mv, double t) {

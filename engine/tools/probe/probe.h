@@ -173,6 +173,13 @@ class ProbeTool final : public Tool {
     double t0 = 0.0, t1 = 0.0;     // [s]
     ProbePose from, to;
   };
+  // construction steps (probe.cpp); InputError naming the probe's field
+  std::vector<uint8_t> contact_set(const Model& m, int& rectum, int& prostate) const;
+  ProbeFrame check_start_pose(const Model& m, const std::vector<uint8_t>& in_set, int rectum) const;
+  void lengthen_scripted_moves();
+  void collect_candidates(const Model& m, const std::vector<uint8_t>& in_set, const std::vector<uint8_t>& on_constrained);
+  void build_broad_phase(const Model& m);
+  void couple_imposed(const Model& m, int rectum, int prostate, const std::vector<uint8_t>& on_constrained);
   static ProbePose evaluate(const Move& mv, double t);
   double min_duration(const ProbePose& a, const ProbePose& b) const;  // speed limits [s]
   void advance_to(double t);

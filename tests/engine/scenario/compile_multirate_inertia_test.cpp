@@ -9,7 +9,7 @@
 
 #include <cmath>
 
-#include "engine/model/model_hash.h"
+#include "engine/scenario/model_hash.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/step/simulation.h"

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "engine/model/model_hash.h"
+#include "engine/scenario/model_hash.h"
 #include "engine/scenario/compile.h"
 #include "engine/scenario/parse_yaml.h"
 #include "engine/ultrasound/anatomy.h"

@@ -1,38 +1,15 @@
-#include "engine/model/model_hash.h"
+#include "engine/scenario/model_hash.h"
+
+#include "engine/scenario/material_models.h"
 
 #include <string>
 #include <vector>
 
 namespace ps {
 
-namespace {
-
-struct Fnv {
-  uint64_t h = 1469598103934665603ull;
-  void bytes(const void* p, size_t n) {
-    const auto* b = static_cast<const unsigned char*>(p);
-    for (size_t i = 0; i < n; ++i) {
-      h ^= b[i];
-      h *= 1099511628211ull;
-    }
-  }
-  template <class T>
-  void pod(const T& v) { bytes(&v, sizeof v); }
-  template <class T>
-  void vec(const std::vector<T>& v) {
-    pod(v.size());
-    if (!v.empty()) bytes(v.data(), v.size() * sizeof(T));
-  }
-  void str(const std::string& s) {
-    pod(s.size());
-    bytes(s.data(), s.size());
-  }
-};
-
-}  // namespace
 
 uint64_t model_hash(const Model& m) {
-  Fnv f;
+  ModelHasher f;
   f.pod(m.dt);
   f.pod(m.substeps);
   f.pod(m.duration);
@@ -70,17 +47,10 @@ uint64_t model_hash(const Model& m) {
     f.pod(s.rest_volume);
     f.pod(s.volume_constrained);
   }
-  // the elements' rest data and materials (an edit of a tet or shell material changes nothing above)
-  f.vec(m.tets.v);
-  f.vec(m.tets.g);
-  f.vec(m.tets.vol0);
-  f.vec(m.tets.mu);
-  f.vec(m.tets.node_kappa);
-  f.vec(m.tets.node_implicit);
-  f.vec(m.tet_pressure.row_slot);
-  f.pod(m.tet_pressure.h);
-  f.pod(m.tet_pressure.iterations);
-  f.pod(m.tets.fast_count);
+  // each material model's elements, rest data and materials (an edit of a tet or shell material
+  // changes nothing above), in MaterialModel order
+  for (const MaterialModelDesc* d : material_models())
+    if (d->hash) d->hash(m, f);
   if (m.stiffness_damping > 0.0) f.pod(m.stiffness_damping);  // only then: the undamped scenes keep their hash
   if (m.sleep.enabled()) {  // only then: a scene without sleeping tissue keeps its hash
     f.vec(m.sleep.role);
@@ -89,14 +59,6 @@ uint64_t model_hash(const Model& m) {
     f.pod(m.sleep.sleep_speed);
     f.pod(m.sleep.hold_ticks);
   }
-  f.vec(m.shells.tri);
-  f.vec(m.shells.bm);
-  f.vec(m.shells.area_t);
-  f.vec(m.shells.mu);
-  f.vec(m.shells.lambda);
-  f.vec(m.shells.hinge);
-  f.vec(m.shells.theta0);
-  f.vec(m.shells.k_hinge);
   for (const FixedParticle& p : m.fixed) { f.pod(p.particle); f.pod(p.axes); }
   for (const ImposedDisplacement& d : m.imposed) {
     f.vec(d.particles);
@@ -109,7 +71,7 @@ uint64_t model_hash(const Model& m) {
     f.vec(a.particles);
     for (int k = 0; k < 3; ++k) f.pod(a.total[k]);
   }
-  return f.h;
+  return f.value();
 }
 
 }  // namespace ps
