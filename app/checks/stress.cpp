@@ -422,6 +422,39 @@ StressResult soak(const ScenarioSpec& spec, const StressOptions& opt) {
   return r;
 }
 
+// The stress cases of each instrument kind (engine/tools/tool_kind.h), in run order; a new kind
+// adds its cases here. A case runs when the scenario holds its kind's section (it reports
+// "skipped" otherwise).
+struct KindStressCase {
+  const ToolKind* kind;
+  const char* name;
+  StressResult (*run)(const ScenarioSpec& spec, const StressOptions& opt, const std::shared_ptr<const Model>& m0,
+                      const std::string& name);
+};
+
+const std::vector<KindStressCase>& kind_stress_cases() {
+  static const std::vector<KindStressCase> cases = {
+      {&NeedleTool::kind(), "needle_1m_s", needle_case},
+      {&NeedleTool::kind(), "gun_fired", needle_case},
+      {&NeedleTool::kind(), "pullback_stuck", needle_case},
+      {&ProbeTool::kind(), "probe_push_rotate",
+       [](const ScenarioSpec& spec, const StressOptions& opt, const std::shared_ptr<const Model>& m0, const std::string&) {
+         return probe_case(spec, opt, m0);
+       }},
+      {&FillingTool::kind(), "fill_max_rate",
+       [](const ScenarioSpec& spec, const StressOptions& opt, const std::shared_ptr<const Model>& m0, const std::string&) {
+         return fill_case(spec, opt, m0);
+       }},
+  };
+  return cases;
+}
+
+const KindStressCase* find_kind_stress_case(const std::string& name) {
+  for (const KindStressCase& c : kind_stress_cases())
+    if (name == c.name) return &c;
+  return nullptr;
+}
+
 }  // namespace
 
 std::string soak_script_for(const ScenarioSpec& spec, const StressOptions& opt) {
@@ -441,16 +474,18 @@ std::string soak_script_for(const ScenarioSpec& spec, const StressOptions& opt) 
 }
 
 std::vector<std::string> all_stress_case_names() {
-  return {"stable_substep", "stiff_inclusion_10", "stiff_inclusion_100", "stiff_inclusion_1000", "needle_1m_s",
-          "gun_fired", "pullback_stuck", "probe_push_rotate", "fill_max_rate", "random_impulses", "random_commands", "soak"};
+  std::vector<std::string> n = {"stable_substep", "stiff_inclusion_10", "stiff_inclusion_100", "stiff_inclusion_1000"};
+  for (const KindStressCase& c : kind_stress_cases()) n.push_back(c.name);
+  n.insert(n.end(), {"random_impulses", "random_commands", "soak"});
+  return n;
 }
 
 std::vector<std::string> stress_case_names(const ScenarioSpec& spec, const StressOptions& opt) {
   std::vector<std::string> n = {"stable_substep"};
   for (double ratio : opt.quick ? std::vector<double>{1000} : std::vector<double>{10, 100, 1000})
     n.push_back(fmt("stiff_inclusion_%g", ratio));
-  n.insert(n.end(), {"needle_1m_s", "gun_fired", "pullback_stuck", "probe_push_rotate", "fill_max_rate",
-                     "random_impulses", "random_commands", "soak"});
+  for (const KindStressCase& c : kind_stress_cases()) n.push_back(c.name);
+  n.insert(n.end(), {"random_impulses", "random_commands", "soak"});
   if (!opt.cases.empty())
     std::erase_if(n, [&](const std::string& c) { return std::find(opt.cases.begin(), opt.cases.end(), c) == opt.cases.end(); });
   return n;
@@ -468,9 +503,7 @@ std::vector<StressResult> run_stress_cases(const ScenarioSpec& spec, std::shared
       if (!m0) m0 = compile_scenario(spec);
       if (name == "stable_substep") r = stable_substep(spec, opt, m0);
       else if (name.rfind("stiff_inclusion_", 0) == 0) r = stiff_inclusion(spec, opt, std::stod(name.substr(16)), *m0);
-      else if (name == "needle_1m_s" || name == "gun_fired" || name == "pullback_stuck") r = needle_case(spec, opt, m0, name);
-      else if (name == "probe_push_rotate") r = probe_case(spec, opt, m0);
-      else if (name == "fill_max_rate") r = fill_case(spec, opt, m0);
+      else if (const KindStressCase* k = find_kind_stress_case(name)) r = k->run(spec, opt, m0, name);
       else if (name == "random_impulses") r = impulses(spec, opt, m0);
       else if (name == "random_commands") r = random_commands(spec, opt, m0);
       else r = soak(spec, opt);

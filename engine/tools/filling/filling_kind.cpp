@@ -4,26 +4,22 @@
 #include "engine/spec/yaml_reader.h"
 #include "engine/tools/filling/filling.h"
 #include "engine/tools/filling/filling_parse.h"
+#include "engine/tools/timeline_target.h"
 #include "engine/tools/tool_kind.h"
 
 namespace ps {
 
 namespace {
 
-std::string organ_name(const YamlReader& r, const YAML::Node& x, const std::string& key) {
-  if (!x.IsScalar()) r.fail(x, key, "expected an instrument name");
-  return x.Scalar();
-}
-
 void parse_fill_rate(const YamlReader& r, const YAML::Node& n, const std::string& where, ScriptEntry& e) {
   r.only_keys(n, where, {"t", "fill_rate", "ml_s"});
-  e.target = organ_name(r, n["fill_rate"], where + ".fill_rate");
+  e.target = timeline_target(r, n["fill_rate"], where + ".fill_rate");
   e.value = r.number(r.require(n, where, "ml_s"), where + ".ml_s") * 1e-6;
 }
 
 void parse_fill_to(const YamlReader& r, const YAML::Node& n, const std::string& where, ScriptEntry& e) {
   r.only_keys(n, where, {"t", "fill_to", "ml", "over_s"});
-  e.target = organ_name(r, n["fill_to"], where + ".fill_to");
+  e.target = timeline_target(r, n["fill_to"], where + ".fill_to");
   e.value = r.positive(r.require(n, where, "ml"), where + ".ml") * 1e-6;
   e.over = n["over_s"] ? r.non_negative(n["over_s"], where + ".over_s") : 0.0;
 }

@@ -8,6 +8,7 @@
 #include "engine/tools/needle/needle_spec_yaml.h"
 #include "engine/tools/probe/probe.h"
 #include "engine/tools/probe/probe_guide.h"
+#include "engine/tools/timeline_target.h"
 #include "engine/tools/tool_kind.h"
 
 namespace ps {
@@ -17,32 +18,27 @@ namespace {
 constexpr double kMm = 1e-3;
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
-std::string needle_name(const YamlReader& r, const YAML::Node& x, const std::string& key) {
-  if (!x.IsScalar()) r.fail(x, key, "expected an instrument name");
-  return x.Scalar();
-}
-
 void parse_depth(const YamlReader& r, const YAML::Node& n, const std::string& where, ScriptEntry& e) {
   r.only_keys(n, where, {"t", "needle", "depth_mm"});
-  e.target = needle_name(r, n["needle"], where + ".needle");
+  e.target = timeline_target(r, n["needle"], where + ".needle");
   e.depth = r.number(r.require(n, where, "depth_mm"), where + ".depth_mm") * kMm;
 }
 
 void parse_advance(const YamlReader& r, const YAML::Node& n, const std::string& where, ScriptEntry& e) {
   r.only_keys(n, where, {"t", "advance", "speed_mm_s"});
-  e.target = needle_name(r, n["advance"], where + ".advance");
+  e.target = timeline_target(r, n["advance"], where + ".advance");
   e.speed = r.number(r.require(n, where, "speed_mm_s"), where + ".speed_mm_s") * kMm;
 }
 
 void parse_rotate(const YamlReader& r, const YAML::Node& n, const std::string& where, ScriptEntry& e) {
   r.only_keys(n, where, {"t", "rotate", "angle_deg"});
-  e.target = needle_name(r, n["rotate"], where + ".rotate");
+  e.target = timeline_target(r, n["rotate"], where + ".rotate");
   e.angle = r.number(r.require(n, where, "angle_deg"), where + ".angle_deg") * kDeg;
 }
 
 void parse_hole(const YamlReader& r, const YAML::Node& n, const std::string& where, ScriptEntry& e) {
   r.only_keys(n, where, {"t", "hole", "col", "row"});
-  e.target = needle_name(r, n["hole"], where + ".hole");
+  e.target = timeline_target(r, n["hole"], where + ".hole");
   e.col = r.integer(r.require(n, where, "col"), where + ".col");
   e.row = r.integer(r.require(n, where, "row"), where + ".row");
 }
@@ -50,7 +46,7 @@ void parse_hole(const YamlReader& r, const YAML::Node& n, const std::string& whe
 // fire, deposit_seed, select, release: the needle's name only
 void parse_name_only(const YamlReader& r, const YAML::Node& n, const std::string& where, ScriptEntry& e) {
   r.only_keys(n, where, {"t", e.action.c_str()});
-  e.target = needle_name(r, n[e.action], where + "." + e.action);
+  e.target = timeline_target(r, n[e.action], where + "." + e.action);
 }
 
 // A depth key of a script moves on at the speed that reaches the same needle's next key on time
