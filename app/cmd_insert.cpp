@@ -2,8 +2,8 @@
 // section headless and writes, per needle, force_depth_<name>.csv (one row per tick), and
 // needle_events.csv, seeds.csv (planned vs actual), cores.csv (biopsy notch contents), and the
 // session's training metrics and score, metrics.json (engine/metrics, docs/metrics.md), with the
-// one-page report.png (app/session_report.h): the very session report of `run --report` and
-// `replay --report` (app/session_capture.h: same capture, same writer, same format), of a scene
+// one-page report.png (app/session/session_report.h): the very session report of `run --report` and
+// `replay --report` (app/session/session_capture.h: same capture, same writer, same format), of a scene
 // made of the needles alone (insert simulates no probe and no filling).
 // Parses, compiles and builds the needles first: bad input exits 2 before anything is written.
 #include <spdlog/spdlog.h>

@@ -10,7 +10,7 @@
 // the replay, not the program: it is printed with tick, time and particle, --save-on-fault FILE
 // writes the last good state, exit 3.
 // `--report DIR [--trainee T] [--session S]`: the session report at the end (metrics.json with
-// its score, report.png, force-depth and event CSVs; app/session_capture.h), fed after every
+// its score, report.png, force-depth and event CSVs; app/session/session_capture.h), fed after every
 // tick, outside the step.
 // `--state FILE`: start from a saved state of this scenario (engine/realtime/state_file.h) at its
 // tick, the recording's or script's commands before it skipped; bad or foreign file: exit 2.

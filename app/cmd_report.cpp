@@ -1,7 +1,7 @@
 // `prostatesim report DIR... --out DIR2`: a class, not only a trainee. Merges the metrics.json of
 // many sessions (each DIR holds one, or sessions below it) into DIR2/sessions.csv and a summary
 // picture DIR2/summary.png (score and error distributions, learning curve per trainee;
-// app/report_chart.cpp). Bad input (a folder without metrics.json, a missing or garbled file)
+// app/session/report_chart.cpp). Bad input (a folder without metrics.json, a missing or garbled file)
 // exits 2 naming the file and the field, before anything is written.
 #include <cmath>
 #include <cstdio>

@@ -7,7 +7,7 @@
 // --record writes every applied command with its tick (engine/realtime/recording.h); at the end
 // the state hash is printed (16 hex digits; the same as `replay --hash` of the recording).
 // --report DIR: the session report at the end (metrics.json with its score, report.png, the
-// force-depth and event CSVs; app/session_capture.h), fed after every tick outside the step.
+// force-depth and event CSVs; app/session/session_capture.h), fed after every tick outside the step.
 // Bad input (scenario, script, options) exits 2 before anything is written.
 // Recovery (issue 14): a simulation fault (NaN, blow-up, a watchdog finding) stops the physics,
 // never the program: the fault is printed with its tick, time and particle, the recording is

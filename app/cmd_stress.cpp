@@ -1,5 +1,5 @@
 // `prostatesim stress [SCENARIO...] [--quick] [--json FILE] [--csv FILE] [--cases A,B] [--soak S]
-// [--script F|none]`: numerical robustness of each scene (app/stress.h). Default: the default
+// [--script F|none]`: numerical robustness of each scene (app/checks/stress.h). Default: the default
 // scenes and the validation scenes. Prints a table of what each case tried and what held; exit 0
 // when everything held (or was refused cleanly), 3 when any case failed or ran out of its time
 // budget. The one-hour soak benchmark of a default scene (its script looped, watchdog, drift

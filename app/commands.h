@@ -30,7 +30,7 @@ void add_ultrasound_command(CLI::App& app, Runner& run);    // cmd_ultrasound.cp
 void add_report_command(CLI::App& app, Runner& run);        // cmd_report.cpp (class metrics)
 void add_run_command(CLI::App& app, Runner& run);           // cmd_run.cpp (real-time loop)
 void add_replay_command(CLI::App& app, Runner& run);        // cmd_replay.cpp (record/replay)
-void add_stress_command(CLI::App& app, Runner& run);        // cmd_stress.cpp (app/stress.h)
+void add_stress_command(CLI::App& app, Runner& run);        // cmd_stress.cpp (app/checks/stress.h)
 void add_bench_command(CLI::App& app, Runner& run);         // cmd_bench.cpp
 void add_edit_command(CLI::App& app, Runner& run);          // cmd_edit.cpp (app/editor/)
 void add_dose_command(CLI::App& app, Runner& run);          // cmd_dose.cpp (TG-43U1 dose at points)

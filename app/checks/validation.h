@@ -1,7 +1,7 @@
 // Validation cases for `prostatesim validate`: each compares the simulator with a reference no
 // one here wrote (measured phantom data, analytic solutions, published curves, an independent
 // FEM solver) and returns rows of (case, metric, value, reference, unit) with a tolerance.
-// Cases live in app/validate_*.cpp and are listed in validation_cases() (validation.cpp).
+// Cases live in app/checks/validate_*.cpp and are listed in validation_cases() (validation.cpp).
 #pragma once
 #include <functional>
 #include <string>

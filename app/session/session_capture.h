@@ -6,7 +6,7 @@
 // punctures of the organs on the way, the rectal wall or the skin) the positions and instrument
 // geometry are copied into buffers sized at construction (no allocation while the draw lists
 // stay within the capacity of their first fill) with the probe's pose, so that the report can
-// show the ultrasound image at each puncture. At the end, write() puts metrics.json, report.png (app/session_report.h) and the CSVs of `insert` into a
+// show the ultrasound image at each puncture. At the end, write() puts metrics.json, report.png (app/session/session_report.h) and the CSVs of `insert` into a
 // folder, each file atomically.
 // The force-depth samples grow with the run (ForceDepthRecorder: amortised vector growth, on the
 // physics thread between ticks, never inside the step).

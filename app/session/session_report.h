@@ -3,7 +3,7 @@
 // y-z, coronal: x-z) with each organ's particles, each target where the tissue carried it, the
 // needle paths to where they took their sample, and the seeds, and the numbers (score and its
 // terms, targeting error against Han et al. 2012, one line per needle).
-// With `views` (run / replay --report, app/session_views.h) the page has three columns:
+// With `views` (run / replay --report, app/session/session_views.h) the page has three columns:
 //   force versus depth | 3D view at the end (render/)       | sagittal projection
 //   the numbers        | ultrasound at each gland puncture   | coronal projection
 // without (insert), two: force | sagittal / numbers | coronal.

@@ -1,4 +1,4 @@
-// Pictures of a session for its report (report.png, app/session_report.h): the 3D view at the end
+// Pictures of a session for its report (report.png, app/session/session_report.h): the 3D view at the end
 // (render/, headless EGL or OSMesa) with each needle's target (red) and where its sample went
 // (blue), the needles and seeds as their tool draws them; and the simulated TRUS image
 // (engine/ultrasound/) at each puncture of the gland, from the state captured at that tick.

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Independent CalculiX (ccx) references for the ProstateSim validation cases
-``punch_halfspace`` and ``sphere_indentation`` (app/validate_indentation.cpp).
+``punch_halfspace`` and ``sphere_indentation`` (app/checks/validate_indentation.cpp).
 
 A block of a linear elastic, nearly incompressible solid (E = 10 kPa,
 nu = 0.49, small deformation) stands on a bonded base (z = 0: ux=uy=uz=0).

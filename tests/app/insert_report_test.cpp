@@ -1,5 +1,5 @@
 // `prostatesim insert` writes the same session report as `run --report` / `replay --report`
-// (app/cmd_insert.cpp through app/session_capture.h): on a needles-only scene, insert and a
+// (app/cmd_insert.cpp through app/session/session_capture.h): on a needles-only scene, insert and a
 // replay of an empty script give the same metrics.json (score included), the same force-depth
 // CSV and the same report.png, pixel for pixel (the 3D view of targets and needles included).
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The session report of `run` and `replay` (app/session_capture.h): a needle scripted onto its
+// The session report of `run` and `replay` (app/session/session_capture.h): a needle scripted onto its
 // target scores about 0 mm at the end of a headless run, the replay of its recording writes the
 // same metrics, both write report.png; --report on a scenario without needles, or an output path
 // that is a file, is bad input (exit 2, nothing written).

@@ -1,4 +1,4 @@
-// The local-load validation cases (app/validate_indentation.cpp) as CI runs them: the reduced
+// The local-load validation cases (app/checks/validate_indentation.cpp) as CI runs them: the reduced
 // version at the scene spacing only (10 mm; `prostatesim validate punch_halfspace
 // sphere_indentation` runs 10 and 5 mm from the command line). The field is compared with the
 // CalculiX solution kept in docs/reference/, so this fails when the tissue model loses accuracy.
