@@ -13,6 +13,7 @@
 
 #include "engine/model/role.h"
 #include "engine/realtime/recording.h"
+#include "engine/tools/tool_kind.h"
 #include "engine/util/error.h"
 #include "python/session.h"
 
@@ -77,13 +78,10 @@ py::array_t<double> vec3_array(const std::vector<ps::Vec3>& v) {
 py::list mm(const ps::Vec3& v) { return py::cast(std::vector<double>{v.x() * 1e3, v.y() * 1e3, v.z() * 1e3}); }
 py::list unit(const ps::Vec3& v) { return py::cast(std::vector<double>{v.x(), v.y(), v.z()}); }
 
-const char* kind_name(ps::ToolReadout::Kind k) {
-  switch (k) {
-    case ps::ToolReadout::Needle: return "needle";
-    case ps::ToolReadout::Probe: return "probe";
-    case ps::ToolReadout::Filling: return "filling";
-    default: return "other";
-  }
+// The read-out's instrument, as its kind's label ("needle", "probe", "filling").
+const char* kind_name(const ps::ToolReadout& r) {
+  const ps::ToolKind* k = ps::readout_kind(r);
+  return k ? k->label : "other";
 }
 
 py::dict snapshot_dict(const ps::Snapshot& s) {
@@ -94,7 +92,7 @@ py::dict snapshot_dict(const ps::Snapshot& s) {
   for (const ps::ToolReadout& t : s.tools) {
     py::dict r;
     r["name"] = std::string(t.name.data());
-    r["kind"] = kind_name(t.kind);
+    r["kind"] = kind_name(t);
     r["tip_mm"] = mm(t.tip);
     r["axis"] = unit(t.axis);
     r["depth_mm"] = t.depth * 1e3;

@@ -93,8 +93,8 @@ Camera preset_camera(View v, const RenderScene& sc, const Snapshot* snap, const 
   const ToolReadout* needle = nullptr;
   if (snap)
     for (const auto& t : snap->tools) {
-      if (t.kind == ToolReadout::Probe && !probe) probe = &t;
-      if (t.kind == ToolReadout::Needle && (!needle || (t.active && !needle->active))) needle = &t;
+      if ((t.carries & kCarriesImaging) && !probe) probe = &t;
+      if ((t.carries & kCarriesInsertion) && (!needle || (t.active && !needle->active))) needle = &t;
     }
   if (v == View::Probe && !probe) v = View::Lateral;
   if (v == View::Needle && !needle) v = View::Lateral;

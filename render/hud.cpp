@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string>
 
+#include "engine/tools/tool_kind.h"
 #include "render/primitive_batches.h"
 #include "render/renderer.h"
 
@@ -59,8 +60,9 @@ void Renderer::draw_hud(int width, int height, const RenderOptions& opt) {
   y = 22 * s;
   {
     for (const ToolReadout& t : tools_) {
-      if (t.kind == ToolReadout::Needle && t.active) {
-        std::snprintf(line, sizeof line, "needle %s: depth %.1f mm, force %.2f N", t.name.data(), t.depth * 1e3, t.force);
+      if ((t.carries & kCarriesInsertion) && t.active) {
+        const ToolKind* k = readout_kind(t);
+        std::snprintf(line, sizeof line, "%s %s: depth %.1f mm, force %.2f N", k ? k->label : "instrument", t.name.data(), t.depth * 1e3, t.force);
         text(6 * s, y, line, white, s);
         y += 10 * s;
       }

@@ -113,20 +113,20 @@ void FrameRecorder::observe(const Snapshot& snap) {
     std::snprintf(line, sizeof line, "t=%8.4f s  FAULT  %s\n", snap.time, snap.fault.data());
     im.events += line;
   }
-  auto first_of = [&](ToolReadout::Kind k) {
-    const auto it = std::find_if(snap.tools.begin(), snap.tools.end(), [k](const ToolReadout& t) { return t.kind == k; });
+  auto first_of = [&](uint8_t carries) {
+    const auto it = std::find_if(snap.tools.begin(), snap.tools.end(), [carries](const ToolReadout& t) { return (t.carries & carries) != 0; });
     return it == snap.tools.end() ? nullptr : &*it;
   };
-  if (const ToolReadout* f = first_of(ToolReadout::Filling)) {
+  if (const ToolReadout* f = first_of(kCarriesVolume)) {
     im.fill_t.push_back(snap.time);
     im.fill_ml.push_back(f->value * 1e6);
   }
-  if (const ToolReadout* p = first_of(ToolReadout::Probe)) {
+  if (const ToolReadout* p = first_of(kCarriesImaging)) {
     im.probe_t.push_back(snap.time);
     im.probe_n.push_back(p->force);
   }
   for (const ToolReadout& t : snap.tools)
-    if (t.kind == ToolReadout::Needle && t.active && t.depth > 0.0) {
+    if ((t.carries & kCarriesInsertion) && t.active && t.depth > 0.0) {
       im.t.push_back(snap.time);
       im.depth.push_back(t.depth * 1e3);
       im.force.push_back(t.force);

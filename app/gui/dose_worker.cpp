@@ -4,6 +4,7 @@
 
 #include "engine/metrics/implant_dosimetry.h"
 #include "engine/metrics/metrics_options.h"
+#include "engine/model/model.h"
 #include "engine/sim/scene.h"
 #include "engine/util/error.h"
 
@@ -34,7 +35,7 @@ DoseWorker::DoseWorker(const Scene& scene, const std::string& isotope, double rx
   prostate_ids_ = surface_ids(m, gland);
   rectum_ids_ = surface_ids(m, rectum);
   for (const Vec3& u : mo.urethra) urethra_.push_back(track_point(m, u));
-  live_ = std::make_unique<dosimetry::LiveDosimetry>(*src, dosimetry::gland_grid(pv), pf, rf, rx);
+  live_ = std::make_unique<dosimetry::LiveDosimetry>(*src, dosimetry::gland_grid(pv), pf, rf, rx, kUrethraRadius * 1e3);
   thread_ = std::thread([this] { run(); });
 }
 

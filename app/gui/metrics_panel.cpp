@@ -119,7 +119,7 @@ void metrics_panel(Session& s, const Snapshot& snap) {
       }
     }
     if (kind != NeedleEventKind::Puncture && kind != NeedleEventKind::BoneHit && kind != NeedleEventKind::Contact &&
-        kind != NeedleEventKind::Urethra)
+        kind != NeedleEventKind::Urethra && kind != NeedleEventKind::GlandExit)
       continue;
     const size_t colon = t.find(": ");
     if (colon == std::string::npos) continue;
@@ -135,6 +135,7 @@ void metrics_panel(Session& s, const Snapshot& snap) {
       }
       if (kind == NeedleEventKind::BoneHit) n.hits |= structure_of(m.components[static_cast<size_t>(std::max(comp, 0))]) | 8u;
       if (kind == NeedleEventKind::Urethra) n.hits |= 1u;
+      if (kind == NeedleEventKind::GlandExit) n.hits |= 16u;  // structure bits as session_metrics.cpp
     }
   }
   const size_t np = snap.x.size() / 3;
@@ -156,7 +157,7 @@ void metrics_panel(Session& s, const Snapshot& snap) {
       const ToolReadout* r = nullptr;
       int seen = 0;
       for (const ToolReadout& t : snap.tools)
-        if (t.kind == ToolReadout::Needle && seen++ == k) r = &t;
+        if ((t.carries & kCarriesInsertion) && seen++ == k) r = &t;
       ++k;
       if (r) n.peak = std::max(n.peak, r->force);
       ImGui::TableNextRow();
@@ -182,7 +183,7 @@ void metrics_panel(Session& s, const Snapshot& snap) {
       ImGui::Text("%d", n.punctures);
       ImGui::TableSetColumnIndex(4);
       std::string hits;
-      for (int b = 1; b <= 8; b <<= 1)
+      for (int b = 1; b <= 16; b <<= 1)
         if (n.hits & static_cast<uint32_t>(b)) hits += std::string(hits.empty() ? "" : ", ") + structure_name(b);
       if (hits.empty()) ImGui::TextDisabled("none");
       else ImGui::TextColored(ImVec4(1, 0.45f, 0.4f, 1), "%s", hits.c_str());

@@ -4,6 +4,8 @@
 
 #include "app/gui/session.h"
 #include "app/gui/tool_panels.h"
+#include "engine/tools/needle/needle.h"
+#include "engine/tools/tool_kind.h"
 
 namespace ps::gui {
 
@@ -12,7 +14,7 @@ void needle_controls(Session& s, const Snapshot& snap, ToolPanelState& st) {
   NeedlePanelState& n = st.needle;
   const ToolReadout* active = nullptr;
   for (const auto& t : snap.tools)
-    if (t.kind == ToolReadout::Needle && (t.active || !active)) active = &t;
+    if (t.kind == tool_kind_index(NeedleTool::kind()) && (t.active || !active)) active = &t;
   ImGui::Text("Needle");
   if (ImGui::BeginCombo("active", s.needle_name(n.needle).c_str())) {
     for (int i = 0; i < s.needle_count(); ++i)

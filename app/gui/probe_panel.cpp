@@ -7,6 +7,8 @@
 #include "app/gui/session.h"
 #include "app/gui/tool_panels.h"
 #include "engine/metrics/session_metrics.h"
+#include "engine/tools/probe/probe.h"
+#include "engine/tools/tool_kind.h"
 
 namespace ps::gui {
 
@@ -35,7 +37,7 @@ void probe_controls(Session& s, const Snapshot& snap, ToolPanelState& st) {
   moved |= ImGui::SliderFloat("yaw [deg]", &p.yaw_deg, -20.0f, 20.0f);
   if (moved) p.command(s);
   for (const auto& t : snap.tools) {
-    if (t.kind != ToolReadout::Probe) continue;
+    if (t.kind != tool_kind_index(ProbeTool::kind())) continue;
     if (snap.time < p.time) { p.peak_n = 0; p.above_s = 0; }  // restarted
     if (t.force > kProbeForceThreshold && snap.time > p.time) p.above_s += snap.time - p.time;
     p.time = snap.time;

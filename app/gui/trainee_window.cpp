@@ -360,7 +360,7 @@ void read_snapshot(Ui& ui, Session& s, const Snapshot& snap) {
   }
   const ToolReadout* active = nullptr;
   for (const auto& t : snap.tools)
-    if (t.kind == ToolReadout::Needle && (t.active || !active)) active = &t;
+    if ((t.carries & kCarriesInsertion) && (t.active || !active)) active = &t;
   if (active && active->depth > 0.0 && (ui.depth_mm.empty() || std::abs(ui.depth_mm.back() - active->depth * 1e3) > 0.01)) {
     ui.depth_mm.push_back(static_cast<float>(active->depth * 1e3));
     ui.force_n.push_back(static_cast<float>(active->force));
@@ -503,7 +503,7 @@ void readouts_panel(Ui& ui, Session& s, const Snapshot& snap, UsPanel& us, DoseP
   ImGui::SetNextWindowSize(ImVec2(kRightPanel, ds.y));
   ImGui::Begin("Read-outs", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
   if (ImGui::CollapsingHeader("Force versus depth", ImGuiTreeNodeFlags_DefaultOpen)) {
-    const bool needles = std::any_of(snap.tools.begin(), snap.tools.end(), [](const ToolReadout& r) { return r.kind == ToolReadout::Needle; });
+    const bool needles = std::any_of(snap.tools.begin(), snap.tools.end(), [](const ToolReadout& r) { return (r.carries & kCarriesInsertion) != 0; });
     if (needles) force_plot(ui, ImVec2(kRightPanel - 20, 190));
     else ImGui::TextDisabled("no needle in this scene");
   }

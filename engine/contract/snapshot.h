@@ -11,9 +11,21 @@
 
 namespace ps {
 
+// What an instrument's read-out measures, as bits of ToolReadout::carries. The frontends that
+// plot, print and frame any instrument (the force-versus-depth plot, the HUD, the cameras, the
+// frames' traces) ask these, never which kind made the read-out.
+enum ReadoutCarries : uint8_t {
+  kCarriesInsertion = 1,  // depth and axial force along `axis` (a needle): force-versus-depth
+  kCarriesImaging = 2,    // tip and axis are an imaging probe's pose; force its contact force
+  kCarriesVolume = 4,     // value is a filled volume [m^3]
+};
+inline constexpr uint8_t kNoToolKind = 255;
+
 // One instrument's read-out for panels and plots (force-versus-depth of the active needle).
 struct ToolReadout {
-  enum Kind : uint8_t { Needle, Probe, Filling, Other } kind = Other;
+  uint8_t kind = kNoToolKind;      // its kind's index in tool_kinds() (engine/tools/tool_kind.h):
+                                   // a kind's own panel finds its read-outs by it
+  uint8_t carries = 0;             // ReadoutCarries bits
   std::array<char, 32> name{};     // tool name, NUL-terminated
   Vec3 tip = Vec3::Zero();         // needle tip / probe tip [m]
   Vec3 axis = Vec3::UnitZ();       // unit insertion direction
@@ -21,7 +33,8 @@ struct ToolReadout {
   double force = 0.0;              // axial tissue force on the instrument [N] (needle: resisting
                                    // insertion is positive; probe: contact force magnitude)
   Vec3 force_vec = Vec3::Zero();   // total tissue force on the instrument [N]
-  double value = 0.0;              // filling: current target volume [m^3]; else unused
+  double value = 0.0;              // kCarriesVolume: the target volume [m^3]; else the kind's own
+                                   // (probe: insertion [m], needle: planned depth [m])
   bool active = false;             // the instrument the user drives now
 };
 

@@ -23,7 +23,7 @@ struct DosimetryOptions {
   double strength_u = 0.5;          // air-kerma strength per seed [U]
   std::string gland;                // empty: the first component whose role is prostate
   std::string rectum;               // empty: the first component whose role is rectum
-  double urethra_radius_mm = 3.0;
+  double urethra_radius_mm = kUrethraRadius * 1e3;
 };
 
 struct DosimetryReport {

@@ -61,7 +61,7 @@ std::string metrics_json(const SessionReport& r, const Score& score, const Sessi
   j["probe"] = {{"peak_force_n", num(r.probe_peak_force)}, {"time_above_threshold_s", num(r.probe_time_above)},
                 {"threshold_n", kProbeForceThreshold}, {"threshold_note", "provisional: no published TRUS probe force found"}};
   j["totals"] = {{"needles", r.needles.size()}, {"punctures", r.punctures}, {"reinsertions", r.reinsertions},
-                 {"structures_hit", r.structures_hit}};
+                 {"structures_hit", r.structures_hit}, {"capsule_exits", r.capsule_exits}};
   ordered_json needles = ordered_json::array();
   for (const NeedleMetrics& n : r.needles)
     needles.push_back({{"name", n.name}, {"scored", n.scored}, {"measured_at", n.measured_at},
@@ -70,7 +70,8 @@ std::string metrics_json(const SessionReport& r, const Score& score, const Sessi
                        {"lateral_error_mm", mm(n.lateral_error)}, {"depth_error_mm", mm(n.depth_error)},
                        {"punctures", n.punctures}, {"reinsertions", n.reinsertions}, {"peak_force_n", n.peak_force},
                        {"mean_force_n", n.mean_force}, {"insertion_time_s", num(n.insertion_time)},
-                       {"structures_hit", n.structures_hit}, {"target_in_lesion", n.target_in_lesion}});
+                       {"structures_hit", n.structures_hit}, {"capsule_exits", n.capsule_exits},
+                       {"target_in_lesion", n.target_in_lesion}});
   j["needles"] = needles;
   ordered_json cores = ordered_json::array();
   for (const CoreMetrics& c : r.cores)

@@ -25,6 +25,11 @@ Score score_session(const SessionReport& r) {
   const double e_mm = 1e3 * r.mean_error;
   s.terms.push_back({"targeting", std::min(40.0, 4.0 * e_mm), fmt("mean error %.2f mm x 4 (max 40)", e_mm)});
   s.terms.push_back({"structures", 10.0 * r.structures_hit, fmt("%.0f structure(s) hit x 10", r.structures_hit)});
+  // through the capsule: common in the lateral and base cores of a 22 mm throw and harmless in
+  // itself (periprostatic tissue in the core), unlike the structures above; weighed lightly so that
+  // a trainee learns to fire nearer the capsule (provisional: no source gives a weight)
+  if (r.capsule_exits > 0)
+    s.terms.push_back({"capsule", 1.0 * r.capsule_exits, fmt("%.0f exit(s) through the capsule x 1", r.capsule_exits)});
   s.terms.push_back({"reinsertion", 3.0 * r.reinsertions, fmt("%.0f re-insertion(s) x 3", r.reinsertions)});
   if (!std::isnan(r.coverage))
     s.terms.push_back({"coverage", 20.0 * (1.0 - r.coverage), fmt("%.0f %% of the planned sites cored", 100.0 * r.coverage)});

@@ -12,7 +12,7 @@ namespace ps {
 
 namespace {
 
-enum : uint32_t { kUrethra = 1, kRectum = 2, kBladder = 4, kBone = 8, kLastStructure = kBone };
+enum : uint32_t { kUrethra = 1, kRectum = 2, kBladder = 4, kBone = 8, kCapsuleExit = 16, kLastStructure = kCapsuleExit };
 
 // A component or tag the needle counts as tumour: one the needle lists (`tumour:`), else one
 // whose role is lesion (as NeedleTool builds Needle::tumour, needle.cpp).
@@ -46,6 +46,7 @@ const char* structure_name(int bit) {
     case kRectum: return "rectal wall";
     case kBladder: return "bladder";
     case kBone: return "bone";
+    case kCapsuleExit: return "capsule exit";
   }
   return "";
 }
@@ -120,6 +121,10 @@ void SessionMetrics::observe(const NeedleTool& tool, const State& s) {
         break;
       case NeedleEventKind::BoneHit: t.hit_mask |= kBone; break;
       case NeedleEventKind::Urethra: t.hit_mask |= kUrethra; break;
+      case NeedleEventKind::GlandExit:
+        t.hit_mask |= kCapsuleExit;
+        ++t.gland_exits;
+        break;
       case NeedleEventKind::Core: {
         const Vec3 dir = tool.readout(e.needle).direction;  // the needle's direction this tick
         if (!t.sites.empty() && static_cast<int>(t.core_error.size()) < kMaxTrackedCores) {
@@ -216,6 +221,7 @@ SessionReport SessionMetrics::finish(const NeedleTool& tool, const State& s, boo
     n.mean_force = t.force_ticks > 0 ? t.force_sum / static_cast<double>(t.force_ticks) : 0.0;
     n.first_contact = t.first_contact;
     n.target_in_lesion = t.lesion_target;
+    n.capsule_exits = t.gland_exits;
     for (uint32_t b = 1; b <= kLastStructure; b <<= 1)
       if (t.hit_mask & b) n.structures_hit.push_back(structure_name(static_cast<int>(b)));
     if (t.decisive) {
@@ -242,7 +248,8 @@ SessionReport SessionMetrics::finish(const NeedleTool& tool, const State& s, boo
       ++scored;
       rep.max_error = std::isnan(rep.max_error) ? n.error : std::max(rep.max_error, n.error);
     }
-    rep.structures_hit += static_cast<int>(n.structures_hit.size());
+    rep.structures_hit += static_cast<int>(n.structures_hit.size()) - ((t.hit_mask & kCapsuleExit) ? 1 : 0);
+    rep.capsule_exits += n.capsule_exits;
     rep.reinsertions += n.reinsertions;
     rep.punctures += n.punctures;
     rep.needles.push_back(std::move(n));

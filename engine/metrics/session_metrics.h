@@ -62,7 +62,7 @@ struct MetricsOptions {
                                    // empty: the first whose role is prostate
   std::vector<Vec3> urethra;       // urethra centre line at rest [m] (Model::urethra; empty: by
                                    // the urethra role's component only)
-  double urethra_radius = 3e-3;    // [m]
+  double urethra_radius = kUrethraRadius;  // [m]
   DosimetryOptions dosimetry;      // isotope, prescription, seed strength (its gland: `gland`)
 };
 
@@ -79,7 +79,8 @@ struct NeedleMetrics {
   double peak_force = 0.0, mean_force = 0.0;  // [N]
   double first_contact = NAN;       // [s]
   double insertion_time = NAN;      // [s]
-  std::vector<std::string> structures_hit;   // "urethra", "rectal wall", "bladder", "bone"
+  std::vector<std::string> structures_hit;   // "urethra", "rectal wall", "bladder", "bone", "capsule exit"
+  int capsule_exits = 0;            // times the tip left the gland through its capsule (GlandExit)
   bool target_in_lesion = false;
 };
 
@@ -120,7 +121,9 @@ struct SessionReport {
   DosimetryReport dosimetry;        // planned and achieved TG-43U1 indices (computed: has seeds)
   // targeting summary over the scored needles
   double mean_error = NAN, max_error = NAN;  // [m]
+  // structures_hit: the needles' structures hit, a capsule exit aside (scored by capsule_exits)
   int structures_hit = 0, reinsertions = 0, punctures = 0;
+  int capsule_exits = 0;            // the needles' exits through the gland's capsule
   bool faulted = false;
   // the probe's contact force (the tissue's force on it, tick mean): peak and time above
   // kProbeForceThreshold; NAN without a probe
@@ -159,6 +162,7 @@ class SessionMetrics {
     int entry = -1;                 // first component entered (route)
     int entry_punctures = 0;
     uint32_t hit_mask = 0;          // bit per kStructure*
+    int gland_exits = 0;            // GlandExit events
     bool lesion_target = false;
     // a needle in the probe's guide takes several cores (NeedleSpec::guide): a push after a core
     // is the next core, not a re-insertion, and its route is punctured again on every pass

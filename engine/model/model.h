@@ -263,6 +263,11 @@ struct ShellElements {
 // Active fibre pair: contraction force along the current pair direction.
 struct FibrePair { int a, b; int component; };
 
+// The urethra as a tube of this radius around Model::urethra [m]: a needle tip inside it is in the
+// urethra (the needle's event, the metrics' structure hit) and the urethra's dose-volume indices
+// are taken over it. The wall is not modelled; 3 mm is about the distended prostatic urethra.
+inline constexpr double kUrethraRadius = 3e-3;
+
 struct Model {
   std::string name;
   std::string source_file;

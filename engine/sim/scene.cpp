@@ -3,9 +3,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "engine/metrics/metrics_options.h"
 #include "engine/scenario/parse_yaml.h"
-#include "engine/tools/needle/needle.h"
 #include "engine/util/error.h"
 #include "engine/util/state_io.h"
 
@@ -18,11 +16,6 @@ Scene build_scene(const ScenarioSpec& spec) {
   sc.model = compile_scenario(sc.spec, &sc.report);
   sc.sim = std::make_unique<Simulation>(sc.model);
   sc.tools = add_scenario_tools(sc.spec, sc.model, *sc.sim);
-  NeedleTool* needles = sc.tools.as<NeedleTool>();
-  if (needles && sc.spec.prostate_zones) {  // the anatomy's urethra line, when it has one
-    const MetricsOptions opt = metrics_options_for(sc.spec, *sc.model);
-    needles->set_urethra(opt.urethra, opt.urethra_radius);
-  }
   return sc;
 }
 

@@ -20,6 +20,18 @@ const ToolKind* find_tool_kind(const std::string& key) {
   return nullptr;
 }
 
+uint8_t tool_kind_index(const ToolKind& k) {
+  const auto& kinds = tool_kinds();
+  for (size_t i = 0; i < kinds.size(); ++i)
+    if (kinds[i] == &k) return static_cast<uint8_t>(i);
+  return kNoToolKind;
+}
+
+const ToolKind* readout_kind(const ToolReadout& r) {
+  const auto& kinds = tool_kinds();
+  return r.kind < kinds.size() ? kinds[r.kind] : nullptr;
+}
+
 const ToolKind* find_tool_kind_for_action(const std::string& action) {
   for (const ToolKind* k : tool_kinds())
     for (const ToolAction& a : k->actions)

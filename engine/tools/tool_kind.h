@@ -98,7 +98,8 @@ struct ToolAction {
 
 struct ToolKind {
   const char* key;                  // its scenario section: "needles", "probe", "filling"
-  const char* label;                // for people: "needle", "probe", "organ filling"
+  const char* label;                // one of its instruments, for people and for the Python
+                                    // snapshot's `kind`: "needle", "probe", "filling"
   std::vector<ToolAction> actions;  // the timeline / live command keys it takes
   // the scenario section into spec (InputError file:line:field)
   void (*parse_section)(const YamlReader& r, const YAML::Node& node, ScenarioSpec& spec);
@@ -120,6 +121,10 @@ struct ToolKind {
 // command addresses in recordings, so a new kind goes last.
 const std::vector<const ToolKind*>& tool_kinds();
 const ToolKind* find_tool_kind(const std::string& key);                // by section key, nullptr if none
+// Its index in tool_kinds(), as a read-out carries it (ToolReadout::kind); kNoToolKind if unlisted.
+uint8_t tool_kind_index(const ToolKind& k);
+// The kind that made a read-out, nullptr if none.
+const ToolKind* readout_kind(const ToolReadout& r);
 const ToolKind* find_tool_kind_for_action(const std::string& action);  // the kind taking a timeline key
 // "probe, needle, advance, ..." (for error messages)
 std::string tool_action_list();

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "engine/tools/filling/filling.h"
+#include "engine/tools/tool_kind.h"
 #include "engine/tools/tool_report_text.h"
 #include "engine/util/error.h"
 
@@ -97,7 +98,9 @@ void FillingTool::serialize(StateIO& io) {
 }
 
 void FillingTool::readout(ToolReadout& r, const Model&, const State&) const {
-  r.kind = ToolReadout::Filling;
+  static const uint8_t kind_index = tool_kind_index(kind());
+  r.kind = kind_index;
+  r.carries = kCarriesVolume;
   std::snprintf(r.name.data(), r.name.size(), "filling");
   r.value = organs_.empty() ? 0.0 : organs_.front().current;
 }

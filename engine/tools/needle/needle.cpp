@@ -25,6 +25,7 @@ const char* needle_event_name(NeedleEventKind k) {
     case NeedleEventKind::BoneHit: return "bone_hit";
     case NeedleEventKind::ForceClamped: return "force_clamped";
     case NeedleEventKind::Urethra: return "urethra";
+    case NeedleEventKind::GlandExit: return "out of the gland through";
   }
   return "?";
 }
@@ -76,6 +77,7 @@ void NeedleTool::forces(const Model& m, State& s, double dt) {
 
 void NeedleTool::after_step(const Model& m, State& s, double) {
   if (!urethra_rest_.empty() && s.step % m.substeps == 0) check_urethra(m, s);
+  if (gland_ >= 0 && s.step % m.substeps == 0) check_gland_exit(m, s);
   for (auto& p : needles_) {
     Needle& nd = *p;
     update_seeds(nd, m, s, events_);

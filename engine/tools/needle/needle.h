@@ -76,6 +76,7 @@
 // bone_contact.h) with an event saying where.
 // Nothing in the hooks allocates, logs or touches files; all buffers are sized at construction.
 #pragma once
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -195,8 +196,11 @@ class NeedleTool : public Tool {
   bool guided(int i) const;                // rides in the probe's biopsy guide
   // The urethra's centre line at rest [m], carried by the nearest particle of a component whose
   // role is prostate, and its radius [m]: a tip that comes within the radius gives an Urethra
-  // event (needle_structures.cpp). Before the first step (build_scene sets it from Model::urethra).
+  // event (needle_structures.cpp). Before the first step (the kind's make sets it from Model::urethra).
   void set_urethra(const std::vector<Vec3>& centre_line, double radius);
+  // The gland whose capsule a tip may leave again (GlandExit event, needle_structures.cpp): a
+  // component with a punctured surface (puncture_n); -1 or one without: not watched.
+  void set_gland(int component);
   int active() const { return active_; }   // the selected needle (SelectNeedle), 0 at start
   double hub_roll(int i) const;            // NeedleRotate [rad]
 
@@ -247,6 +251,9 @@ class NeedleTool : public Tool {
   std::vector<Vec3> urethra_now_;
   double urethra_radius_ = 0.0;
   void check_urethra(const Model& m, const State& s);
+  int gland_ = -1;                      // component watched for GlandExit, -1: none
+  std::array<double, 16> gland_cross_t_{};  // scratch: the shaft's crossings of its surface [m]
+  void check_gland_exit(const Model& m, State& s);
 };
 
 // Builds the tool for the `needles:` section of a scenario (nullptr when it has no needle).

@@ -19,7 +19,9 @@ enum class NeedleEventKind : uint8_t {
   Core,         // biopsy core taken (value = particles in the notch; details in NeedleTool::core)
   BoneHit,      // tip stopped by rigid bone (component, position)
   ForceClamped, // coupling force or speed exceeded the needle's limit and was clamped
-  Urethra       // tip came within the urethra's radius of its centre line (value: distance [m])
+  Urethra,      // tip came within the urethra's radius of its centre line (value: distance [m])
+  GlandExit     // tip, in through the gland's capsule, went out through its surface again (component:
+                // the gland)
 };
 const char* needle_event_name(NeedleEventKind k);
 

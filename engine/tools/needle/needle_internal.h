@@ -70,7 +70,8 @@ struct NeedleTool::Needle {
   // tube
   std::vector<int> tracked, next;  // capacity n
   std::vector<uint8_t> mark;       // [n] in tube
-  std::vector<uint8_t> entered;    // [components] surface breached (or started inside)
+  std::vector<uint8_t> entered;    // [components] surface breached (or started inside): 1; the
+                                   // watched gland (set_gland) 2 while the tip is out of it again
   // zones
   std::vector<int> zone_idx;       // [node_count * kZoneCapacity]
   std::vector<double> zone_dist;   // [node_count * kZoneCapacity] distance to the node [m]

@@ -3,6 +3,7 @@
 // select, hole, rotate, release) and the link to the probe whose guide and template they ride in.
 #include <cmath>
 
+#include "engine/model/role.h"
 #include "engine/spec/yaml_reader.h"
 #include "engine/tools/needle/needle.h"
 #include "engine/tools/needle/needle_spec_yaml.h"
@@ -116,7 +117,12 @@ Command needle_command(const ScriptEntry& e, CommandContext& ctx) {
 void parse_section(const YamlReader& r, const YAML::Node& node, ScenarioSpec& spec) { spec.needles = parse_needles_yaml(r, node); }
 
 std::unique_ptr<Tool> make_tool(const ScenarioSpec& spec, const std::shared_ptr<const Model>& model) {
-  return make_needle_tool(model, spec.needles);
+  std::unique_ptr<NeedleTool> t = make_needle_tool(model, spec.needles);
+  if (!t) return t;
+  t->set_urethra(model->urethra, kUrethraRadius);  // watched when the anatomy has its line
+  // the gland whose capsule a core or a seed needle may overshoot: the zoned one, else by role
+  t->set_gland(spec.prostate_zones ? model->find_component(spec.prostate_zones->component) : model->find_role(Role::Prostate));
+  return t;
 }
 
 // SelectHole aims along the probe's template; a needle in the guide follows the probe's pose

@@ -8,6 +8,7 @@
 #include "engine/anatomy/zones.h"
 #include "engine/tools/needle/needle_internal.h"
 #include "engine/tools/probe/probe.h"
+#include "engine/tools/tool_kind.h"
 #include "engine/util/error.h"
 
 namespace ps {
@@ -382,7 +383,9 @@ void NeedleTool::serialize(StateIO& io) {
 }
 
 void NeedleTool::readout(ToolReadout& r, const Model&, const State&) const {
-  r.kind = ToolReadout::Needle;
+  static const uint8_t kind_index = tool_kind_index(kind());
+  r.kind = kind_index;
+  r.carries = kCarriesInsertion;
   if (needles_.empty()) return;
   const int i = active_ >= 0 && active_ < count() ? active_ : 0;
   const Needle& nd = *needles_[i];

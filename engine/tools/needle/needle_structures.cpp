@@ -1,5 +1,6 @@
-// Structures a needle must not reach, watched between substeps: the urethra, a centre line
-// carried by the gland (its wall is not modelled: the tip is "in the urethra" within the radius).
+// Structures a needle must not reach, watched once per tick: the urethra, a centre line carried by
+// the gland (its wall is not modelled: the tip is "in the urethra" within the radius), and the
+// gland's far side (a tip that went in through the capsule and is out of the gland again).
 #include <algorithm>
 #include <limits>
 
@@ -18,6 +19,9 @@ double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
 }
 
 constexpr double kUrethraRearm = 1e-3;  // a tip this far beyond the radius may give a new event [m]
+// a tip out of the gland is back in, and may leave it again (a new event), only this far inside its
+// surface along the needle [m]: nearer, the tented capsule sliding over the tip gives a second exit
+constexpr double kGlandRearm = 2e-3;
 
 }  // namespace
 
@@ -65,6 +69,73 @@ void NeedleTool::check_urethra(const Model& m, const State& s) {
       push_event(events_, nd, NeedleEventKind::Urethra, s.time, nd.T, -1, -1, dist);
     } else if (nd.near_urethra && dist > urethra_radius_ + kUrethraRearm) {
       nd.near_urethra = false;
+    }
+  }
+}
+
+void NeedleTool::set_gland(int component) {
+  const bool surfaced = component >= 0 && component < static_cast<int>(puncture_kc_.size()) && puncture_kc_[component] > 0.0 &&
+                        !membranes_->sheet[component];
+  gland_ = surfaced ? component : -1;
+}
+
+// Whether the tip is in the gland, by the shaft's crossings of the gland's surface from the hub
+// (outside: in the rectum or the probe's guide) to the tip: an entry face (normal against the
+// needle) counts +1, an exit face -1. The faces are those of the tube's gland particles: a face
+// the axis crosses has its corners within a tissue spacing of it, inside the tube's margin.
+// A crossing on an edge shared by two faces counts once (the same axial position). Once per tick:
+// the GlandExit event and entered[gland] = 2 until the tip is back in, kGlandRearm deep.
+void NeedleTool::check_gland_exit(const Model& m, State& s) {
+  const MembraneFaces& mf = *membranes_;
+  const int g = gland_;
+  for (auto& p : needles_) {
+    Needle& nd = *p;
+    if (!nd.contacted || nd.entered[g] == 0) continue;
+    const Vec3 T = nd.T, d = nd.d;
+    const double shaft = (nd.node_count - 1) * nd.spec.node_spacing;
+    int n_cross = 0;
+    int sum = 0;
+    bool exits = false, near_exit_ahead = false;
+    for (int q : nd.tracked) {
+      if (m.component_of[q] != g || !m.on_surface[q]) continue;
+      for (int k = mf.start[q]; k < mf.start[q + 1]; ++k) {
+        const int f = mf.list[k];
+        const auto& fc = mf.faces[f];
+        if (q != std::min({fc[0], fc[1], fc[2]}) && nd.mark[std::min({fc[0], fc[1], fc[2]})]) continue;  // once per face
+        const Vec3 &A = s.x[fc[0]], &B = s.x[fc[1]], &C = s.x[fc[2]];
+        const Vec3 e1 = B - A, e2 = C - A;
+        const Vec3 pv = d.cross(e2);
+        const double det = e1.dot(pv);
+        if (std::abs(det) < 1e-30) continue;
+        const double inv = 1.0 / det;
+        const Vec3 tv = T - A;
+        const double u = tv.dot(pv) * inv;
+        const Vec3 qv = tv.cross(e1);
+        const double v = d.dot(qv) * inv;
+        if (u < 0.0 || v < 0.0 || u + v > 1.0) continue;
+        const double t = e2.dot(qv) * inv;  // the crossing's axial position relative to the tip [m]
+        if (t > kGlandRearm || t < -shaft) continue;
+        const bool entry = e1.cross(e2).dot(d) < 0.0;
+        if (t > 0.0) {  // ahead of the tip: an exit face this near means the tip is at the capsule
+          near_exit_ahead |= !entry;
+          continue;
+        }
+        bool seen = false;
+        for (int i = 0; i < n_cross; ++i) seen |= gland_cross_t_[static_cast<size_t>(i)] == t;
+        if (seen || n_cross >= static_cast<int>(gland_cross_t_.size())) continue;
+        gland_cross_t_[static_cast<size_t>(n_cross++)] = t;
+        sum += entry ? 1 : -1;
+        exits |= !entry;
+      }
+    }
+    // out: the shaft has left through a face since it last came in; a tip whose entry face the
+    // tube does not hold (a needle that started in the gland) stays in until it crosses an exit
+    const bool outside = exits && sum <= 0;
+    if (outside && nd.entered[g] == 1) {
+      nd.entered[g] = 2;
+      push_event(events_, nd, NeedleEventKind::GlandExit, s.time, nd.T, g);
+    } else if (!outside && !near_exit_ahead && nd.entered[g] == 2) {
+      nd.entered[g] = 1;
     }
   }
 }

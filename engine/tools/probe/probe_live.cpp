@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "engine/tools/probe/probe.h"
+#include "engine/tools/tool_kind.h"
 #include "engine/tools/tool_report_text.h"
 #include "engine/util/error.h"
 
@@ -81,7 +82,9 @@ void ProbeTool::serialize(StateIO& io) {
 }
 
 void ProbeTool::readout(ToolReadout& r, const Model&, const State&) const {
-  r.kind = ToolReadout::Probe;
+  static const uint8_t kind_index = tool_kind_index(kind());
+  r.kind = kind_index;
+  r.carries = kCarriesImaging;
   std::snprintf(r.name.data(), r.name.size(), "probe");
   r.tip = frame_.capsule.tip;
   r.axis = frame_.axis();

@@ -15,6 +15,7 @@
 #include "tests/engine/realtime/live_scene.h"
 #include "engine/tools/probe/probe.h"
 #include "engine/tools/filling/filling.h"
+#include "engine/tools/tool_kind.h"
 
 namespace ps {
 namespace {
@@ -155,10 +156,14 @@ TEST(Lockstep, SnapshotCarriesPositionsReadoutsAndRefusals) {
   ASSERT_EQ(s.x.size(), 3 * sc.sim->state().x.size());
   EXPECT_EQ(s.x[0], static_cast<float>(sc.sim->state().x[0].x()));
   ASSERT_EQ(s.tools.size(), sc.sim->tools().size());
-  EXPECT_EQ(s.tools[sc.tools.index<NeedleTool>()].kind, ToolReadout::Needle);
+  const ToolReadout& needle = s.tools[sc.tools.index<NeedleTool>()];
+  EXPECT_EQ(readout_kind(needle), &NeedleTool::kind());
+  EXPECT_EQ(needle.carries, kCarriesInsertion);
   EXPECT_STREQ(s.tools[sc.tools.index<NeedleTool>()].name.data(), "gun");
-  EXPECT_EQ(s.tools[sc.tools.index<ProbeTool>()].kind, ToolReadout::Probe);
-  EXPECT_EQ(s.tools[sc.tools.index<FillingTool>()].kind, ToolReadout::Filling);
+  EXPECT_EQ(readout_kind(s.tools[sc.tools.index<ProbeTool>()]), &ProbeTool::kind());
+  EXPECT_EQ(s.tools[sc.tools.index<ProbeTool>()].carries, kCarriesImaging);
+  EXPECT_EQ(readout_kind(s.tools[sc.tools.index<FillingTool>()]), &FillingTool::kind());
+  EXPECT_EQ(s.tools[sc.tools.index<FillingTool>()].carries, kCarriesVolume);
   EXPECT_EQ(s.state_hash, sc.sim->hash());
   ASSERT_EQ(s.events.size(), 1u);
   EXPECT_EQ(s.events[0].kind, kSnapshotEventRefused);

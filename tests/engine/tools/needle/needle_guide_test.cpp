@@ -1,8 +1,9 @@
 // The needle in the probe's biopsy guide (config/biopsy.yaml, `guide: biopsy`): it starts on the
 // guide, turns with the probe (a 30 deg roll turns its path 30 deg about the probe's axis), drags
 // the gland with it when the probe moves with the needle in tissue, is re-armed after a core and
-// fires again (two cores, one needle), and driven 60 mm deep it punctures the bladder wall, an
-// event and a structure hit (its route, the rectal wall, is not). The default scene at full resolution; each
+// fires again (two cores, one needle), and driven 60 mm deep it leaves the gland through its
+// anterior capsule and punctures the bladder wall, events and structure hits (its route, the
+// rectal wall, is not). The default scene at full resolution; each
 // test runs at most ~2 s of simulated time. (Not checked yet: that the second pass punctures the
 // rectal wall again; it gave one rectal puncture for two passes, see docs/needle.md.)
 #include <gtest/gtest.h>
@@ -178,9 +179,20 @@ TEST(NeedleGuide, DrivenTooDeepItEntersTheBladder) {
   }
   const int bladder = b.m().find_component("bladder");
   EXPECT_GE(count_events(*b.needles, NeedleEventKind::Puncture, bladder), 1);
+  // on its way it left the gland through the anterior capsule (the path leaves it at ~41 mm), once
+  const int gland = b.m().find_component("prostate");
+  EXPECT_EQ(count_events(*b.needles, NeedleEventKind::GlandExit, gland), 1);
+  double exit_depth = 0.0, bladder_depth = 0.0;
+  for (const NeedleEvent& e : b.needles->events().snapshot()) {
+    if (e.kind == NeedleEventKind::GlandExit) exit_depth = e.depth;
+    if (e.kind == NeedleEventKind::Puncture && e.component == bladder) bladder_depth = e.depth;
+  }
+  EXPECT_GT(exit_depth, 0.0);
+  EXPECT_LT(exit_depth, bladder_depth) << "out of the gland before the bladder wall";
   const SessionReport rep = metrics.finish(*b.needles, b.s());
   const auto& hit = rep.needles.at(0).structures_hit;
   EXPECT_NE(std::find(hit.begin(), hit.end(), "bladder"), hit.end());
+  EXPECT_NE(std::find(hit.begin(), hit.end(), "capsule exit"), hit.end());
   EXPECT_EQ(std::find(hit.begin(), hit.end(), "rectal wall"), hit.end()) << "the route is not a hit";
 }
 
