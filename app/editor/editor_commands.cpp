@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "engine/model/role.h"
+#include "engine/scenario/scene_regions.h"
 #include "engine/tools/probe/probe_geometry.h"
 #include "engine/util/error.h"
 
@@ -19,6 +20,13 @@ std::string num(double v) {
 }
 
 std::string vec(const Vec3& v) { return "[" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + "]"; }
+
+// Round-trips a double: a seeded lesion written as a tag keeps exactly its particles.
+std::string exact(double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
 
 EditResult refused(const std::string& field, const std::string& msg) {
   EditResult r;
@@ -91,12 +99,65 @@ std::vector<RegionView> EditorCommands::regions() const {
     }
     out.push_back(v);
   }
+  if (spec()->lesions && spec()->prostate_zones && doc_.model()) {
+    try {
+      const std::vector<Vec3> centres = anatomy::seeded_lesion_centres(*spec(), *doc_.model());
+      for (size_t k = 0; k < centres.size(); ++k) {
+        RegionView v;
+        v.tag = "lesion_" + std::to_string(k + 1);
+        v.key = "lesions";
+        v.kind = RegionSpec::Sphere;
+        v.center_mm = 1e3 * centres[k];
+        v.size_mm = Vec3::Constant(0.5e3 * spec()->lesions->diameter);
+        v.lesion = v.seeded = true;
+        out.push_back(v);
+      }
+    } catch (const InputError&) {  // a compiled document places them; nothing to show otherwise
+    }
+  }
   return out;
+}
+
+EditResult EditorCommands::place_lesions(int count, int seed, const std::string& zone, double diameter_mm) {
+  if (!spec() || !spec()->prostate_zones) return refused("lesions", "lesions are placed in a prostate zone: give prostate_zones first");
+  return doc_.set("lesions", "{count: " + std::to_string(count) + ", seed: " + std::to_string(seed) + ", zone: " + zone +
+                                 ", diameter_mm: " + num(diameter_mm) + "}");
+}
+
+EditResult EditorCommands::lesions_to_tags() {
+  if (!spec() || !spec()->lesions) return refused("lesions", "the scenario places no lesions from a seed");
+  std::vector<RegionView> seeded;
+  for (const RegionView& v : regions())
+    if (v.seeded) seeded.push_back(v);
+  if (seeded.empty()) return refused("lesions", "the seeded lesions could not be placed: fix the scenario first");
+  const std::string gland = spec()->prostate_zones->component;
+  EditResult r = doc_.remove_top_key("lesions");
+  if (!r.ok) return r;
+  int edits = 1;
+  for (const RegionView& v : seeded) {
+    r = doc_.add_item("tags", "{name: " + v.tag + ", component: " + gland + ", region: {sphere: {center_mm: [" + exact(v.center_mm.x()) +
+                                  ", " + exact(v.center_mm.y()) + ", " + exact(v.center_mm.z()) + "], radius_mm: " + exact(v.size_mm.x()) + "}}}");
+    if (!r.ok) {  // leave the document as it was
+      for (int i = 0; i < edits; ++i) doc_.undo();
+      return r;
+    }
+    ++edits;
+  }
+  doc_.merge_last(edits);
+  return r;
 }
 
 EditResult EditorCommands::move_region(const std::string& tag, const Vec3& c) {
   for (const RegionView& v : regions()) {
     if (v.tag != tag) continue;
+    if (v.seeded) {  // the seeded lesions become tags, then this one moves: one undo step
+      EditResult r = lesions_to_tags();
+      if (!r.ok) return r;
+      r = move_region(tag, c);
+      if (r.ok) doc_.merge_last(2);
+      else doc_.undo();
+      return r;
+    }
     if (v.kind == RegionSpec::Box) {
       // a box moves as a whole: both corners in one edit (one undo step)
       const std::string b = "{min_mm: " + vec(c - v.size_mm) + ", max_mm: " + vec(c + v.size_mm) + "}";
@@ -111,6 +172,14 @@ EditResult EditorCommands::resize_region(const std::string& tag, const Vec3& s) 
   for (const RegionView& v : regions()) {
     if (v.tag != tag) continue;
     if (s.minCoeff() <= 0.0) return refused(v.key, "sizes must be > 0 mm");
+    if (v.seeded) {
+      EditResult r = lesions_to_tags();
+      if (!r.ok) return r;
+      r = resize_region(tag, s);
+      if (r.ok) doc_.merge_last(2);
+      else doc_.undo();
+      return r;
+    }
     switch (v.kind) {
       case RegionSpec::Sphere: return doc_.set_number(v.key + ".radius_mm", s.x());
       case RegionSpec::Ellipsoid: return doc_.set_vec3(v.key + ".radii_mm", s);
@@ -126,7 +195,18 @@ EditResult EditorCommands::add_lesion(const std::string& name, const std::string
                                    ", radius_mm: " + num(r) + "}}}");
 }
 
-EditResult EditorCommands::remove_tag(const std::string& tag) { return doc_.remove_item("tags[" + tag + "]"); }
+EditResult EditorCommands::remove_tag(const std::string& tag) {
+  for (const RegionView& v : regions()) {
+    if (v.tag != tag || !v.seeded) continue;
+    EditResult r = lesions_to_tags();  // the others stay where the seed put them
+    if (!r.ok) return r;
+    r = doc_.remove_item("tags[" + tag + "]");
+    if (r.ok) doc_.merge_last(2);
+    else doc_.undo();
+    return r;
+  }
+  return doc_.remove_item("tags[" + tag + "]");
+}
 
 std::string EditorCommands::needle_key(const std::string& needle) const { return "needles.instruments[" + needle + "]"; }
 

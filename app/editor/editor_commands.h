@@ -26,6 +26,8 @@ struct RegionView {
   Vec3 center_mm = Vec3::Zero();
   Vec3 size_mm = Vec3::Zero();     // radii (ellipsoid), radius x3 (sphere), half-extents (box)
   bool lesion = false;             // named *lesion* / *tumo*
+  bool seeded = false;             // placed by `lesions:` from its seed (key "lesions"): moving or
+                                   // resizing it first turns the seeded lesions into tags
 };
 
 // One segment of filling.schedule as the editor shows it: the field the file gives it by (a rate,
@@ -66,6 +68,12 @@ class EditorCommands {
   EditResult resize_region(const std::string& tag, const Vec3& size_mm);  // sphere: size.x
   EditResult add_lesion(const std::string& name, const std::string& organ, const Vec3& center_mm, double radius_mm);
   EditResult remove_tag(const std::string& tag);
+  // A case's lesions from a seed: `lesions: {count, seed, zone, diameter_mm}` (the gland's
+  // prostate_zones zone tag, e.g. "peripheral"); regions() then lists them as seeded.
+  EditResult place_lesions(int count, int seed, const std::string& zone, double diameter_mm);
+  // The seeded lesions as sphere tags lesion_1..n (same particles: the sphere of the diameter
+  // around each drawn centre) in place of `lesions:`, so they can be moved one by one; one undo step.
+  EditResult lesions_to_tags();
   EditResult set_needle_target(const std::string& needle, const Vec3& target_mm);
 
   // --- bladder filling: segment i of filling.schedule ---

@@ -64,6 +64,8 @@ struct Ui {
   char new_lesion[64] = "lesion_2";
   double new_lesion_c[3] = {0, 0, 0};
   double new_lesion_r = 4.0;
+  int seed_count = 2, seed_value = 1, seed_zone = 0;
+  double seed_diameter = 10.0;
   char new_needle[64] = "t_new";
   int hole[2] = {6, 2};
   double hole_depth = 60.0;
@@ -231,7 +233,8 @@ void lesion_panel(EditorCommands& c, FieldErrors& errs, Ui& ui) {
   for (const RegionView& r : c.regions()) {
     ImGui::PushID(r.tag.c_str());
     const bool sel = ui.drag.selected() == r.tag && ui.drag.selected_kind() == Handle::Region;
-    if (ImGui::Selectable((r.tag + (r.lesion ? "  (lesion)" : "")).c_str(), sel)) ui.drag.select(r.tag, Handle::Region);
+    if (ImGui::Selectable((r.tag + (r.seeded ? "  (lesion, from the seed)" : r.lesion ? "  (lesion)" : "")).c_str(), sel))
+      ui.drag.select(r.tag, Handle::Region);
     vec_field(errs, "centre [mm]", r.key + ".center_mm", r.center_mm, [&](const Vec3& v) { return c.move_region(r.tag, v); });
     vec_field(errs, r.kind == RegionSpec::Sphere ? "radius [mm]" : r.kind == RegionSpec::Box ? "half size [mm]" : "radii [mm]", r.key,
               r.size_mm, [&](const Vec3& v) { return c.resize_region(r.tag, r.kind == RegionSpec::Sphere ? Vec3::Constant(v.x()) : v); });
@@ -257,6 +260,27 @@ void lesion_panel(EditorCommands& c, FieldErrors& errs, Ui& ui) {
   ImGui::TextColored(kDim, "in the organ picked above");
   const std::string m = errs.for_key("tags");
   if (!m.empty()) ImGui::TextColored(kRed, "  %s", m.c_str());
+  // a case's lesions from a seed (`lesions:`): an instructor's case library, one seed per case
+  ImGui::Separator();
+  ImGui::TextUnformatted("Lesions from a seed");
+  static const char* kZones[] = {"peripheral", "transition", "anterior"};
+  ImGui::SetNextItemWidth(80);
+  ImGui::InputInt("count", &ui.seed_count);
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(80);
+  ImGui::InputInt("seed", &ui.seed_value);
+  ImGui::SetNextItemWidth(120);
+  ImGui::Combo("zone", &ui.seed_zone, kZones, 3);
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(60);
+  ImGui::InputDouble("diameter [mm]", &ui.seed_diameter, 0, 0, "%.3g");
+  if (ImGui::Button("Place")) errs.note("lesions", c.place_lesions(ui.seed_count, ui.seed_value, kZones[std::clamp(ui.seed_zone, 0, 2)], ui.seed_diameter));
+  if (c.spec() && c.spec()->lesions) {
+    ImGui::SameLine();
+    if (ImGui::Button("As tags (to move one by one)")) errs.note("lesions", c.lesions_to_tags());
+  }
+  const std::string lm = errs.for_key("lesions");
+  if (!lm.empty()) ImGui::TextColored(kRed, "  %s", lm.c_str());
 }
 
 // refusal of a section's add button (field errors show at their fields)

@@ -597,6 +597,42 @@ EditResult ScenarioDocument::remove_item(const std::string& item_path) {
   return accept(std::move(next), item_path);
 }
 
+EditResult ScenarioDocument::remove_top_key(const std::string& key) {
+  size_t b = std::string::npos;
+  for (size_t pos = 0; pos < text_.size();) {
+    if (text_.compare(pos, key.size() + 1, key + ":") == 0) { b = pos; break; }
+    const size_t nl = text_.find('\n', pos);
+    pos = nl == std::string::npos ? text_.size() : nl + 1;
+  }
+  if (b == std::string::npos) {
+    EditResult r;
+    r.issue = DocumentIssue{key, 0, "no top-level key '" + key + "'"};
+    return r;
+  }
+  auto line_end = [&](size_t p) {
+    const size_t nl = text_.find('\n', p);
+    return nl == std::string::npos ? text_.size() : nl + 1;
+  };
+  size_t e = line_end(b);
+  for (size_t p = e; p < text_.size();) {
+    const size_t next = line_end(p);
+    const char c = text_[p];
+    if (c == ' ' || c == '\t' || c == '-') e = next;                  // its block value
+    else if (!(c == '\n' || c == '\r' || c == '#')) break;           // the next key
+    p = next;                                                          // blank or comment: look on
+  }
+  std::string next = text_;
+  next.erase(b, e - b);
+  return accept(std::move(next), key);
+}
+
+bool ScenarioDocument::merge_last(int n) {
+  if (n < 1 || at_ < static_cast<size_t>(n) || at_ + 1 != history_.size()) return false;
+  history_.erase(history_.end() - n, history_.end() - 1);
+  at_ -= static_cast<size_t>(n - 1);
+  return true;
+}
+
 int ScenarioDocument::item_count(const std::string& list_path) const {
   try {
     const YAML::Node root = load_yaml(text_);

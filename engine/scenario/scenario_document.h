@@ -76,6 +76,13 @@ class ScenarioDocument {
   // text (and the separating comma, or its lines of a block list); the last item of a block list
   // leaves "[]". Validated like set(); undo puts it back as it was.
   EditResult remove_item(const std::string& item_path);
+  // Removes a top-level key with its value (its line and the lines indented under it; comments
+  // and blank lines after it stay). Validated like set(); undo puts it back.
+  EditResult remove_top_key(const std::string& key);
+  // Makes the last n accepted edits one undo step (a compound edit, such as seeded lesions turned
+  // into tags and then moved). False, changing nothing, when fewer than n edits lie behind the
+  // current text or a redo is pending.
+  bool merge_last(int n);
   // Number of items of the list at `list_path` (0 when absent or not a list).
   int item_count(const std::string& list_path) const;
   // The current YAML text of a value ("" when absent).

@@ -98,8 +98,9 @@ uint64_t splitmix64(uint64_t& x) {
   return z ^ (z >> 31);
 }
 
-// `lesions:`: spheres on particles of the zone drawn from the seed, a diameter apart (LesionsSpec)
-void place_lesions(const ScenarioSpec& spec, Model& m) {
+}  // namespace
+
+std::vector<Vec3> seeded_lesion_centres(const ScenarioSpec& spec, const Model& m) {
   const LesionsSpec& ls = *spec.lesions;
   const Component& comp = m.components[m.find_component(spec.prostate_zones->component)];
   const int zone = m.find_tag(ls.zone);
@@ -121,6 +122,19 @@ void place_lesions(const ScenarioSpec& spec, Model& m) {
       throw InputError(spec.file, ls.loc.line, "lesions.count",
                        std::to_string(ls.count) + " lesions of " + std::to_string(ls.diameter * 1e3) + " mm do not fit a diameter apart in zone '" + ls.zone + "'");
     centres.push_back(c);
+  }
+  return centres;
+}
+
+namespace {
+
+// `lesions:`: spheres on particles of the zone drawn from the seed, a diameter apart (LesionsSpec)
+void place_lesions(const ScenarioSpec& spec, Model& m) {
+  const LesionsSpec& ls = *spec.lesions;
+  const Component& comp = m.components[m.find_component(spec.prostate_zones->component)];
+  const std::vector<Vec3> centres = seeded_lesion_centres(spec, m);
+  for (int k = 0; k < ls.count; ++k) {
+    const Vec3& c = centres[static_cast<size_t>(k)];
     if (m.tag_names.size() >= 64) throw InputError(spec.file, ls.loc.line, "lesions", "more than 64 tags (zones included)");
     const std::string name = "lesion_" + std::to_string(k + 1);
     if (m.find_tag(name) >= 0) throw InputError(spec.file, ls.loc.line, "lesions", "tag '" + name + "' is already given under tags:");

@@ -29,4 +29,10 @@ ParticleSet fill_excluding(const ScenarioSpec& spec, size_t ci, const std::vecto
 void apply_particle_tags(const ScenarioSpec& spec, Model& model,
                          const std::vector<std::vector<std::array<int, 3>>>& faces_of_component);
 
+// The centres [m] of the lesions `lesions:` places (spec.lesions, needs its prostate_zones), drawn
+// from the seed among the gland's particles carrying the zone tag, a diameter apart; each lesion
+// is the sphere of the diameter around its centre (its particles within, at rest). The model needs
+// the zone tags (a compiled model has them). InputError naming `lesions.*` when they do not fit.
+std::vector<Vec3> seeded_lesion_centres(const ScenarioSpec& spec, const Model& model);
+
 }  // namespace ps::anatomy

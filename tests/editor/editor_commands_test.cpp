@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "engine/metrics/session_metrics.h"
 #include "engine/tools/needle/needle.h"
@@ -209,6 +210,55 @@ TEST(EditorCommands, SaveThenOpenGivesTheSameModelHash) {
   EXPECT_THROW(c.save((d / "no_such_dir" / "x.yaml").string()), std::exception);
   EXPECT_EQ(again.doc().text(), saved);
   fs::remove_all(d);
+}
+
+// A case's lesions from a seed: placed by the command, listed as seeded, and moved one by one
+// after they become sphere tags that keep exactly their particles (one undo step back).
+TEST(EditorCommands, SeededLesionsAreShownAndMovedAsTags) {
+  const std::string path = std::string(PROSTATESIM_SOURCE_DIR) + "/config/biopsy.yaml";
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  EditorCommands c{ScenarioDocument(ss.str(), path)};
+  ASSERT_TRUE(c.doc().valid()) << c.doc().error()->message;
+  const EditResult placed = c.place_lesions(2, 7, "peripheral", 8.0);
+  ASSERT_TRUE(placed.ok) << placed.issue->field << ": " << placed.issue->message;
+  ASSERT_TRUE(c.spec()->lesions.has_value());
+  const std::string seeded_text = c.doc().text();
+  std::vector<RegionView> seeded;
+  for (const RegionView& r : c.regions())
+    if (r.seeded) seeded.push_back(r);
+  ASSERT_EQ(seeded.size(), 2u);
+  EXPECT_EQ(seeded[0].tag, "lesion_1");
+  EXPECT_TRUE(seeded[0].lesion);
+  EXPECT_DOUBLE_EQ(seeded[0].size_mm.x(), 4.0);
+  auto members = [&](const std::string& tag) {
+    const Model& m = *c.doc().model();
+    const int t = m.find_tag(tag);
+    std::vector<int> out;
+    for (int p = 0; p < m.particle_count(); ++p)
+      if (t >= 0 && (m.particle_tags[p] >> t & 1u)) out.push_back(p);
+    return out;
+  };
+  const std::vector<int> second = members("lesion_2");
+  ASSERT_FALSE(second.empty());
+  const EditResult moved = c.move_region("lesion_1", seeded[0].center_mm + Vec3(0, 0, 2));
+  ASSERT_TRUE(moved.ok) << moved.issue->field << ": " << moved.issue->message;
+  EXPECT_FALSE(c.spec()->lesions.has_value()) << "the seeded lesions became tags";
+  EXPECT_EQ(c.doc().text().find("\nlesions:"), std::string::npos);
+  EXPECT_EQ(members("lesion_2"), second) << "a lesion not moved keeps exactly its particles";
+  int tags = 0;
+  for (const RegionView& r : c.regions()) {
+    EXPECT_FALSE(r.seeded) << r.tag;
+    if (r.tag == "lesion_1") {
+      ++tags;
+      EXPECT_NEAR((r.center_mm - seeded[0].center_mm - Vec3(0, 0, 2)).norm(), 0.0, 1e-9);
+    }
+    if (r.tag == "lesion_2") ++tags;
+  }
+  EXPECT_EQ(tags, 2);
+  ASSERT_TRUE(c.undo());
+  EXPECT_EQ(c.doc().text(), seeded_text) << "turning into tags and the move are one undo step";
 }
 
 }  // namespace
