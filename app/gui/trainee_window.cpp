@@ -198,7 +198,7 @@ void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width, const d
     }
   }
   ImGui::TextDisabled("transverse (R on left)   sagittal (base on left)");
-  if (dose) ImGui::TextDisabled("isodose: 50 %% blue, 100 %% red, 150 %% yellow, 200 %% magenta of the prescription");
+  if (dose) ImGui::TextDisabled("isodose 50/100/150/200 %%: blue, red, yellow, magenta");
   ImGui::TextDisabled("t = %.3f s, both planes %.0f ms (worker thread)", p.frame.time, p.frame.ms);
   // gain, depth, frequency: the worker rebuilds its imager for them before its next image
   ImGui::PushItemWidth(0.3f * width);
