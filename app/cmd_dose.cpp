@@ -4,7 +4,8 @@
 //     the points with dose_gy.
 //   plan SCENARIO --prescription-gy 145 --out PLAN.yaml [--isotope I125_6711] [--strength-u 0.5]
 //     seed positions on the scenario's template lines from the prostate's rest shape
-//     (engine/dosimetry/plan.h); exit 1 naming the constraint the plan cannot meet.
+//     (engine/dosimetry/plan.h: simulated annealing over the candidates' dose matrix); exit 1 naming
+//     each constraint the plan cannot meet, nothing written.
 // Bad input (unknown isotope, a seed file with a missing column or a non-positive strength, an
 // output path that cannot be written) exits 2 naming the file, line and field; nothing is written.
 #include <cstdio>
@@ -80,7 +81,7 @@ void add_dose_command(CLI::App& app, Runner& run) {
 
 void add_plan_command(CLI::App& app, Runner& run) {
   auto a = std::make_shared<PlanArgs>();
-  CLI::App* sub = app.add_subcommand("plan", "pre-implant seed plan on the scenario's template (TG-43U1, greedy optimiser)");
+  CLI::App* sub = app.add_subcommand("plan", "pre-implant seed plan on the scenario's template (TG-43U1, simulated annealing)");
   sub->add_option("scenario", a->scenario, "scenario YAML with a prostate and a probe with a template")->required();
   sub->add_option("--prescription-gy", a->prescription_gy, "prescription dose [Gy]")->capture_default_str();
   sub->add_option("--isotope", a->isotope, "seed model: " + dosimetry::source_model_names())->capture_default_str();
@@ -108,8 +109,9 @@ void add_plan_command(CLI::App& app, Runner& run) {
         throw InputError(a->scenario, e.line(), e.field(), e.message());
       }
       const dosimetry::Plan p = dosimetry::optimise_plan(in);
-      std::printf("plan for %s: %d seeds of %.3f U (%s) in %zu needles, prescription %.1f Gy\n", scene.model->name.c_str(), p.seeds,
-                  a->strength_u, a->isotope.c_str(), p.needles.size(), a->prescription_gy);
+      std::printf("plan for %s: %d seeds of %.3f U (%s) in %zu needles, prescription %.1f Gy (simulated annealing, %d round%s)\n",
+                  scene.model->name.c_str(), p.seeds, a->strength_u, a->isotope.c_str(), p.needles.size(), a->prescription_gy, p.rounds,
+                  p.rounds == 1 ? "" : "s");
       std::printf("prostate %.1f cc: D90 %.1f Gy, V100 %.1f %%, V150 %.1f %%, V200 %.1f %%; urethra D10 %.1f Gy, D30 %.1f Gy; "
                   "rectum D2cc %.1f Gy, V100 %.2f cc\n",
                   p.predicted.prostate_cc, p.predicted.prostate_d90_gy, 100 * p.predicted.prostate_v100, 100 * p.predicted.prostate_v150,

@@ -7,11 +7,17 @@
 //    thread);
 //  - BM_LiveDoseAllMoved: every seed has moved more than the 0.25 mm tolerance (200 passes): the
 //    worst case, a gland pushed as a whole;
-//  - BM_DoseGridRebuild100: the grid alone from zero, 100 seed passes.
+//  - BM_DoseGridRebuild100: the grid alone from zero, 100 seed passes;
+//  - BM_IsodoseSurface: what the worker adds after each update for the views: the grid's copy and
+//    the prescription isodose surface at the views' 2 mm stride (marching tetrahedra,
+//    engine/dosimetry/isodose.h);
+//  - BM_IsodosePlanes: the 50/100/150/200 % lines of two 384 x 384 px TRUS planes through the
+//    gland (the window's TRUS panel traces them on its UI thread from that copy).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 
+#include "engine/dosimetry/isodose.h"
 #include "engine/dosimetry/live_dosimetry.h"
 #include "engine/dosimetry/plan.h"
 
@@ -109,6 +115,47 @@ void BM_DoseGridRebuild100(benchmark::State& st) {
   for (auto _ : st) acc.rebuild(m.seeds);
 }
 BENCHMARK(BM_DoseGridRebuild100)->Unit(benchmark::kMillisecond);
+
+void BM_IsodoseSurface(benchmark::State& st) {
+  const Implant& m = implant();
+  dosimetry::LiveDosimetry live(i125(), m.grid, m.pf, m.rf, 145.0);
+  live.update(m.seeds, m.pv, m.rv, m.urethra);
+  size_t faces = 0;
+  for (auto _ : st) {
+    const auto field = live.field();
+    const dosimetry::IsoSurface iso = dosimetry::isodose_surface(*field, 145.0, dosimetry::kViewSurfaceStride);
+    faces = iso.faces.size();
+    benchmark::DoNotOptimize(faces);
+  }
+  st.counters["triangles"] = static_cast<double>(faces);
+}
+BENCHMARK(BM_IsodoseSurface)->Unit(benchmark::kMillisecond);
+
+void BM_IsodosePlanes(benchmark::State& st) {
+  const Implant& m = implant();
+  dosimetry::LiveDosimetry live(i125(), m.grid, m.pf, m.rf, 145.0);
+  live.update(m.seeds, m.pv, m.rv, m.urethra);
+  const auto field = live.field();
+  // 60 x 60 mm planes of 384 px: transverse (z = 0) and sagittal (x = 0) through the gland
+  dosimetry::PixelPlane tr, sg;
+  tr.width = tr.height = sg.width = sg.height = 384;
+  const double px = 60.0 / 384;
+  tr.p00_mm = Vec3(-30, 30, 0);
+  tr.dcol_mm = Vec3(px, 0, 0);
+  tr.drow_mm = Vec3(0, -px, 0);
+  sg.p00_mm = Vec3(0, 30, 30);
+  sg.dcol_mm = Vec3(0, 0, -px);
+  sg.drow_mm = Vec3(0, -px, 0);
+  const std::vector<double> levels = {72.5, 145.0, 217.5, 290.0};
+  std::vector<dosimetry::IsoSegment> a, b;
+  for (auto _ : st) {
+    dosimetry::plane_isodose(*field, tr, levels, 2, a);
+    dosimetry::plane_isodose(*field, sg, levels, 2, b);
+    benchmark::DoNotOptimize(a.data());
+  }
+  st.counters["segments"] = static_cast<double>(a.size() + b.size());
+}
+BENCHMARK(BM_IsodosePlanes)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -51,6 +51,9 @@ struct SurfaceGpu {
 struct Renderer::Gpu : DrawSink {
   unsigned lit_surface = 0, lit_instance = 0, line_prog = 0, overlay_prog = 0;
   std::vector<SurfaceGpu> surfaces;
+  SurfaceGpu isodose;                 // the prescription isodose surface (set_isodose), 0 indices: none
+  Rgba isodose_colour{1.0f, 0.2f, 0.15f, 0.3f};
+  size_t isodose_vbo_floats = 0, isodose_ibo_ints = 0;  // buffer sizes (grown, never shrunk)
   PrimitiveBatch spheres, cylinders, cones;
   // spheres at three levels of detail, chosen per view by their radius on screen: the batch
   // `spheres` (18 x 12) for large ones, these two for small ones (render())

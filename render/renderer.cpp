@@ -120,6 +120,11 @@ Renderer::~Renderer() {
   api.DeleteVertexArrays(1, &g.line_vao);
   api.DeleteBuffers(1, &g.overlay_vbo);
   api.DeleteVertexArrays(1, &g.overlay_vao);
+  if (g.isodose.vao) {
+    api.DeleteBuffers(1, &g.isodose.vbo);
+    api.DeleteBuffers(1, &g.isodose.ibo);
+    api.DeleteVertexArrays(1, &g.isodose.vao);
+  }
   for (unsigned p : {g.lit_surface, g.lit_instance, g.line_prog, g.overlay_prog}) api.DeleteProgram(p);
 }
 
@@ -276,12 +281,24 @@ void Renderer::render(const Camera& cam, int width, int height, const RenderOpti
     api.DrawArrays(GL_LINES, 0, static_cast<GLsizei>(g.lines.size()));
   }
 
-  // 3. transparent surfaces, farthest first; back faces then front faces of each
+  // 3. transparent surfaces, farthest first; back faces then front faces of each (the isodose
+  // surface among them, as index kIsodose)
+  constexpr size_t kIsodose = static_cast<size_t>(-1);
   std::array<std::pair<double, size_t>, 64> order;
   size_t n = 0;
+  if (g.isodose.index_count > 0) order[n++] = {-(g.isodose.centroid - cam.eye).norm(), kIsodose};
   for (size_t s = 0; s < scene_.surfaces.size() && n < order.size(); ++s)
     if (!hidden(s) && opacity(s) < 0.999f) order[n++] = {-(g.surfaces[s].centroid - cam.eye).norm(), s};
   std::sort(order.begin(), order.begin() + static_cast<long>(n));
+  auto draw_isodose = [&] {
+    const Rgba& c = g.isodose_colour;
+    const float col[4] = {c.r, c.g, c.b, c.a};
+    api.Uniform1i(api.GetUniformLocation(g.lit_surface, "uUseScalar"), 0);
+    api.Uniform4fv(u_colour, 1, col);
+    api.BindVertexArray(g.isodose.vao);
+    api.DrawElements(GL_TRIANGLES, g.isodose.index_count, GL_UNSIGNED_INT, nullptr);
+    api.Uniform1i(api.GetUniformLocation(g.lit_surface, "uUseScalar"), opt.displacement ? 1 : 0);
+  };
   if (n) {
     api.UseProgram(g.lit_surface);
     api.Enable(GL_BLEND);
@@ -293,6 +310,12 @@ void Renderer::render(const Camera& cam, int width, int height, const RenderOpti
       // cover most of the frame: on a software rasteriser that blended full-screen pass cost
       // ~9 of ~39 ms CPU per 720p frame (docs/rendering.md), so the fat shows its near side only
       api.CullFace(GL_FRONT);
+      if (order[i].second == kIsodose) {
+        draw_isodose();
+        api.CullFace(GL_BACK);
+        draw_isodose();
+        continue;
+      }
       if (scene_.surfaces[order[i].second].kind != OrganKind::Fat) draw_surface(order[i].second, opacity(order[i].second));
       api.CullFace(GL_BACK);
       draw_surface(order[i].second, opacity(order[i].second));

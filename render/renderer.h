@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "engine/contract/snapshot.h"
+#include "engine/dosimetry/isodose.h"
 #include "engine/draw/draw_sink.h"
 #include "render/camera.h"
 #include "render/render_scene.h"
@@ -43,6 +44,11 @@ class Renderer {
   void update(const Snapshot& snap);
   // Draws into the bound framebuffer, viewport (viewport_x, viewport_y, width, height).
   void render(const Camera& cam, int width, int height, const RenderOptions& opt);
+
+  // The prescription isodose surface of the implant (engine/dosimetry/isodose.h, millimetres),
+  // drawn translucent with the transparent surfaces until replaced; an empty one removes it
+  // (isodose_mesh.cpp).
+  void set_isodose(const dosimetry::IsoSurface& surface_mm, Rgba colour = {1.0f, 0.2f, 0.15f, 0.3f});
 
   // 2D overlay in pixels (origin top-left), drawn at the end of the next render(), then cleared.
   void text(float x, float y, const std::string& s, Rgba c, float scale = 2.0f);

@@ -12,6 +12,7 @@
 #include "app/frames/contact_sheet.h"
 #include "engine/io/png_write.h"
 #include "app/frames/png_queue.h"
+#include "app/frames/us_isodose.h"
 #include "engine/model/model.h"
 #include "engine/ultrasound/from_simulation.h"
 #include "engine/ultrasound/imager.h"
@@ -43,6 +44,8 @@ struct FrameRecorder::Impl {
   std::vector<std::unique_ptr<us::PlaneImager>> imagers;   // one per opt.us_views
   us::UltrasoundScene us_scene;
   us::ProbeView probe_view;                                // last seen in a snapshot
+  std::unique_ptr<SnapshotDose> dose;                      // a scene with seeds: isodose views
+  std::vector<dosimetry::IsoSegment> iso_segments;
   render::HeadlessContext ctx;     // first: no GL, nothing written
   bool folder_ready;               // then the folder (refused when not empty or not writable)
   render::Antialias aa;            // opt.antialias resolved for this GL
@@ -62,8 +65,9 @@ struct FrameRecorder::Impl {
   std::vector<Thumb> thumbs;                               // contact sheet frames
   std::vector<int> thumb_frames;
 
-  Impl(const Model& m, FrameOptions o, const UltrasoundInput* us)
+  Impl(const Model& m, FrameOptions o, const UltrasoundInput* us, std::unique_ptr<SnapshotDose> d)
       : opt(checked(std::move(o), us)),
+        dose(std::move(d)),
         folder_ready((prepare_output_dir(opt.out_dir, opt.force), true)),
         aa(render::resolve_antialias(opt.antialias, ctx.renderer())),
         renderer(render::make_render_scene(m)),
@@ -82,8 +86,8 @@ struct FrameRecorder::Impl {
   }
 };
 
-FrameRecorder::FrameRecorder(const Model& model, FrameOptions opt, const UltrasoundInput* us)
-    : impl_(std::make_unique<Impl>(model, std::move(opt), us)) {
+FrameRecorder::FrameRecorder(const Model& model, FrameOptions opt, const UltrasoundInput* us, std::unique_ptr<SnapshotDose> dose)
+    : impl_(std::make_unique<Impl>(model, std::move(opt), us, std::move(dose))) {
   for (render::View v : impl_->opt.views) fs::create_directories(fs::path(impl_->opt.out_dir) / render::view_name(v));
   for (us::PlaneKind k : impl_->opt.us_views) fs::create_directories(fs::path(impl_->opt.out_dir) / us_view_name(k));
 }
@@ -137,6 +141,14 @@ void FrameRecorder::observe(const Snapshot& snap) {
 void FrameRecorder::add_frame(const Snapshot& snap) {
   Impl& im = *impl_;
   im.renderer.update(snap);
+  // the implant's dose at this frame: the isodose surface in 3D, the lines on the TRUS planes
+  std::shared_ptr<const dosimetry::DoseField> field;
+  if (im.dose) {
+    const int seeds = im.dose->update(snap).indices.seeds;
+    if (seeds > 0) field = im.dose->field();
+    if (!im.opt.views.empty())
+      im.renderer.set_isodose(field ? dosimetry::isodose_surface(*field, field->prescription_gy, dosimetry::kViewSurfaceStride) : dosimetry::IsoSurface{});
+  }
   std::vector<uint8_t> rgb;
   for (size_t v = 0; v < im.opt.views.size(); ++v) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -167,17 +179,27 @@ void FrameRecorder::add_frame(const Snapshot& snap) {
       const us::UsImage& img = im.imagers[v]->render(im.us_scene);
       std::vector<uint8_t> gray = im.queue.take_buffer();
       gray.assign(img.pixels.begin(), img.pixels.end());
+      int channels = 1;
+      if (im.dose) {  // a scene with seeds: RGB frames, the isodose lines once a seed is in
+        im.iso_segments.clear();
+        if (field) plane_isodose_lines(*field, pixel_plane(*im.imagers[v], im.probe_view), im.iso_segments);
+        std::vector<uint8_t> colour = im.queue.take_buffer();
+        draw_isodose_rgb(gray, img.width, img.height, im.iso_segments, colour);
+        std::swap(gray, colour);
+        channels = 3;
+      }
       im.us_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       if (v == 0 && im.opt.views.empty() && im.thumbs.size() < 4 &&
           std::find(im.thumb_frames.begin(), im.thumb_frames.end(), im.frame) != im.thumb_frames.end()) {
-        std::vector<uint8_t> rgb3(3 * gray.size());
-        for (size_t i = 0; i < gray.size(); ++i) rgb3[3 * i] = rgb3[3 * i + 1] = rgb3[3 * i + 2] = gray[i];
+        std::vector<uint8_t> rgb3 = channels == 3 ? gray : std::vector<uint8_t>(3 * gray.size());
+        if (channels == 1)
+          for (size_t i = 0; i < gray.size(); ++i) rgb3[3 * i] = rgb3[3 * i + 1] = rgb3[3 * i + 2] = gray[i];
         im.thumbs.push_back(make_thumb(rgb3, img.width, img.height, 320, snap.time));
       }
       char name[64];
       std::snprintf(name, sizeof name, "frame_%06d.png", im.frame);
       const fs::path path = fs::path(im.opt.out_dir) / us_view_name(im.opt.us_views[v]) / name;
-      im.queue.push(path.string(), img.width, img.height, std::move(gray), 1);
+      im.queue.push(path.string(), img.width, img.height, std::move(gray), channels);
     }
   }
   ++im.frame;

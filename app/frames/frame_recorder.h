@@ -4,7 +4,8 @@
 // force-versus-depth samples, a summary and a contact sheet (a few frames and the
 // force-versus-depth plot in one PNG). Output layout in DIR:
 //   <view>/frame_000000.png ...   one folder per view (3d, anterior, lateral, probe, needle;
-//                                 us_transverse, us_sagittal: 8-bit grayscale simulated TRUS)
+//                                 us_transverse, us_sagittal: 8-bit grayscale simulated TRUS,
+//                                 RGB with the isodose lines when the scene has seeds)
 //   events.log                    one line per event (time, tool, what, depth, force)
 //   force_depth.csv               every tick of the active needle: t_s, depth_mm, force_n
 //   summary.json                  frames, views, size, timings, event count, fault
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "app/frames/frame_options.h"
+#include "app/frames/snapshot_dose.h"
 #include "engine/contract/snapshot.h"
 #include "engine/ultrasound/anatomy.h"
 #include "engine/ultrasound/settings.h"
@@ -46,7 +48,10 @@ class FrameRecorder {
   // it is not empty without force, or not writable), then the renderer. Throws
   // render::RenderError when no headless GL is available (nothing written then). `us` is needed
   // (InputError otherwise) when opt.us_views is not empty; its settings are validated first.
-  FrameRecorder(const Model& model, FrameOptions opt, const UltrasoundInput* us = nullptr);
+  // `dose` (a scene with seeds): the 3D views show the prescription isodose surface and the
+  // ultrasound planes the 50/100/150/200 % isodose lines once a seed is in (snapshot_dose.h).
+  FrameRecorder(const Model& model, FrameOptions opt, const UltrasoundInput* us = nullptr,
+                std::unique_ptr<SnapshotDose> dose = nullptr);
   ~FrameRecorder();
 
   // Every tick (or every snapshot read): logs its events and samples the active needle's depth

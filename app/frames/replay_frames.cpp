@@ -32,7 +32,16 @@ ReplayFramesResult replay_frames(const Scene& scene, LockstepRunner& run, int64_
     us->anatomy = us::anatomy_for_scenario(scene.spec, *scene.model);
     us->settings = us::settings_for_probe(*scene.spec.probe);
   }
-  FrameRecorder rec(*scene.model, opt, us.get());  // GL context first, then the folder
+  // a scene with seeds: the isodose surface and lines (a scene without a gland: none)
+  std::unique_ptr<SnapshotDose> dose;
+  if (SnapshotDose::scene_has_seeds(scene)) {
+    try {
+      dose = std::make_unique<SnapshotDose>(scene);
+    } catch (const InputError&) {
+      dose.reset();
+    }
+  }
+  FrameRecorder rec(*scene.model, opt, us.get(), std::move(dose));  // GL context first, then the folder
   ReplayFramesResult r;
   InstrumentsCsv instruments;  // instruments.csv: the needles' and the probe's poses at every frame
   int done = 0;

@@ -136,5 +136,12 @@ void Session::fire(int i) {
 void Session::seed(int i) {
   if (i >= 0 && i < needle_count()) push(needle_command(CommandKind::DepositSeed, scene_->tools.index<NeedleTool>(), i));
 }
+void Session::aim_hole(int i, int col, int row) {
+  if (i < 0 || i >= needle_count()) return;
+  Command c = needle_command(CommandKind::SelectHole, scene_->tools.index<NeedleTool>(), i);
+  c.needle.col = col;
+  c.needle.row = row;
+  push(c);
+}
 
 }  // namespace ps::gui

@@ -54,6 +54,9 @@ class Session {
   void advance(int i, double speed);  // [m/s], negative retracts, 0 stops
   void fire(int i);
   void seed(int i);
+  // needle i to template hole (col, row) of the probe's stepper: tip at the template, held
+  // (CommandKind::SelectHole; the tool refuses a hole outside the grid or a guided needle)
+  void aim_hole(int i, int col, int row);
 
   bool recording() const { return recorder_ != nullptr; }
   const std::string& recording_path() const;

@@ -25,6 +25,7 @@ struct ProbePanelState {
 struct NeedlePanelState {
   int needle = 0;                  // selected needle index
   float speed_mm_s = 5.0f;         // advance speed [mm/s]
+  int hole_col = -1, hole_row = -1;  // the template hole last picked (-1: none)
 };
 
 // What the panels keep between frames (reset when a scene is loaded or restarted).

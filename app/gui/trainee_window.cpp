@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/frames/us_isodose.h"
 #include "app/gui/dose_worker.h"
 #include "app/gui/metrics_panel.h"
 #include "app/gui/plot_axes.h"
@@ -111,13 +112,18 @@ struct UsPanel {
   bool have = false;
   float gain_db = 0.0f, depth_mm = 60.0f, freq_mhz = 7.5f;  // the knobs (sliders)
   bool lesions = true, toggle_lesions = false;               // fused MRI contour of the lesions (M)
+  // isodose lines of both planes (us_isodose.h), traced on this thread from the dose worker's
+  // newest grid whenever it or the image changed
+  std::vector<dosimetry::IsoSegment> iso[2];
+  const dosimetry::DoseField* iso_field = nullptr;
+  double iso_time = -1.0;
   ~UsPanel() {
     worker.reset();
     if (tex[0] && gl::loaded()) gl::api.DeleteTextures(2, tex);
   }
 };
 
-void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width) {
+void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width, const dosimetry::DoseField* dose) {
   if (p.for_session != &s) {  // a new scene: a new worker for its anatomy
     p.worker.reset();
     p.have = false;
@@ -171,10 +177,28 @@ void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width) {
     ImGui::Dummy(ImVec2(width, side));
     return;
   }
-  ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(p.tex[0])), ImVec2(side, side));
-  ImGui::SameLine(0.0f, 8.0f);
-  ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(p.tex[1])), ImVec2(side, side));
+  if (dose != p.iso_field || p.frame.time != p.iso_time) {
+    for (int k = 0; k < 2; ++k) {
+      p.iso[k].clear();
+      if (dose) frames::plane_isodose_lines(*dose, p.frame.plane[k], p.iso[k]);
+    }
+    p.iso_field = dose;
+    p.iso_time = p.frame.time;
+  }
+  for (int k = 0; k < 2; ++k) {
+    if (k) ImGui::SameLine(0.0f, 8.0f);
+    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(p.tex[k])), ImVec2(side, side));
+    const ImVec2 o = ImGui::GetItemRectMin();
+    const float sc = side / static_cast<float>(std::max(1, p.frame.side));
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    for (const dosimetry::IsoSegment& g : p.iso[k]) {
+      const auto& c = frames::kIsodoseRgb[std::min<size_t>(g.level, frames::kIsodoseRgb.size() - 1)];
+      dl->AddLine(ImVec2(o.x + (g.x0 + 0.5f) * sc, o.y + (g.y0 + 0.5f) * sc), ImVec2(o.x + (g.x1 + 0.5f) * sc, o.y + (g.y1 + 0.5f) * sc),
+                  IM_COL32(c[0], c[1], c[2], 255), 1.5f);
+    }
+  }
   ImGui::TextDisabled("transverse (R on left)   sagittal (base on left)");
+  if (dose) ImGui::TextDisabled("isodose 50/100/150/200 %%: blue, red, yellow, magenta");
   ImGui::TextDisabled("t = %.3f s, both planes %.0f ms (worker thread)", p.frame.time, p.frame.ms);
   // gain, depth, frequency: the worker rebuilds its imager for them before its next image
   ImGui::PushItemWidth(0.3f * width);
@@ -203,17 +227,19 @@ struct DosePanel {
   std::unique_ptr<DoseWorker> worker;
   std::string error;
   DoseFrame frame;
+  const dosimetry::IsoSurface* shown = nullptr;  // the surface last given to the 3D view's renderer
+  // the newest dose grid once a seed is in (the TRUS panel's isodose lines), else null
+  const dosimetry::DoseField* field() const { return frame.ready && frame.seeds > 0 ? frame.field.get() : nullptr; }
 };
 
 void dose_panel(DosePanel& p, Session& s, const Snapshot& snap, float width) {
   if (p.for_session != &s) {
     p.worker.reset();
     p.frame = DoseFrame{};
+    p.shown = nullptr;
     p.error.clear();
     p.for_session = &s;
-    bool seeds = false;
-    for (const NeedleSpec& n : s.scene().spec.needles.needles) seeds |= !n.seed_depths.empty();
-    if (!seeds) p.error = "no seeds planned in this scene";
+    if (!frames::SnapshotDose::scene_has_seeds(s.scene())) p.error = "no seeds planned in this scene";
     else {
       try {
         p.worker = std::make_unique<DoseWorker>(s.scene());
@@ -258,8 +284,8 @@ void dose_panel(DosePanel& p, Session& s, const Snapshot& snap, float width) {
       dl->AddLine(ImVec2(X(100.0 * c.dose_gy[i - 1] / rx), Y((*ys[k])[i - 1])), ImVec2(X(100.0 * c.dose_gy[i] / rx), Y((*ys[k])[i])),
                   col[k], 2.0f);
   ImGui::Dummy(ImVec2(w, h));
-  ImGui::TextDisabled("DVH: prostate (red), urethra (orange), rectum (blue); t = %.2f s, %.1f ms (worker thread)", p.frame.time,
-                      p.frame.ms);
+  ImGui::TextDisabled("DVH: prostate (red), urethra (orange), rectum (blue); t = %.2f s, %.1f ms + isodose %.1f ms (worker thread)",
+                      p.frame.time, p.frame.ms, p.frame.iso_ms);
 }
 
 void push_log(Ui& ui, const std::string& s) {
@@ -507,7 +533,7 @@ void readouts_panel(Ui& ui, Session& s, const Snapshot& snap, UsPanel& us, DoseP
     if (needles) force_plot(ui, ImVec2(kRightPanel - 20, 190));
     else ImGui::TextDisabled("no needle in this scene");
   }
-  if (ImGui::CollapsingHeader("Ultrasound", ImGuiTreeNodeFlags_DefaultOpen)) us_panel(us, s, snap, kRightPanel - 20);
+  if (ImGui::CollapsingHeader("Ultrasound", ImGuiTreeNodeFlags_DefaultOpen)) us_panel(us, s, snap, kRightPanel - 20, dose.field());
   if (ImGui::CollapsingHeader("Metrics", ImGuiTreeNodeFlags_DefaultOpen)) metrics_panel(s, snap);
   if (ImGui::CollapsingHeader("Dosimetry", ImGuiTreeNodeFlags_DefaultOpen)) dose_panel(dose, s, snap, kRightPanel - 20);
   draw_tool_readouts(s, snap, ui.panels);
@@ -666,6 +692,10 @@ int run_window(app::RunSession& run) {
       win->clear_framebuffer(fbw, fbh);
       const float sx = ds.x > 0 ? fbw / ds.x : 1.0f, sy = ds.y > 0 ? fbh / ds.y : 1.0f;
       s.renderer().update(snap);
+      if (dose.for_session == &s && dose.frame.surface.get() != dose.shown) {  // a newer prescription isodose
+        dose.shown = dose.frame.surface.get();
+        s.renderer().set_isodose(dose.shown ? *dose.shown : dosimetry::IsoSurface{});
+      }
       ui.ropt.viewport_x = static_cast<int>(vx * sx);
       ui.ropt.viewport_y = 0;
       ui.ropt.title = s.name() + "  [" + render::view_name(ui.view) + "]" + (ui.paused ? "  PAUSED" : "");

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "app/frames/us_isodose.h"
 #include "engine/sim/scene.h"
 #include "engine/ultrasound/from_simulation.h"
 #include "engine/util/error.h"
@@ -89,6 +90,8 @@ void UltrasoundWorker::run() {
     imager_->render(scene_);
     img.transverse = imager_->transverse().image().pixels;
     img.sagittal = imager_->sagittal().image().pixels;
+    img.plane[0] = frames::pixel_plane(imager_->transverse(), probe_);
+    img.plane[1] = frames::pixel_plane(imager_->sagittal(), probe_);
     img.time = working_.time;
     img.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     {

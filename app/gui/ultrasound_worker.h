@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "engine/contract/snapshot.h"
+#include "engine/dosimetry/isodose.h"
 #include "engine/ultrasound/imager.h"
 
 namespace ps {
@@ -36,6 +37,7 @@ struct UsFrame {
   std::vector<uint8_t> transverse, sagittal;  // grayscale, rows top-down
   double time = 0.0;                     // simulation time of the snapshot [s]
   double ms = 0.0;                       // both planes' compute time [ms]
+  dosimetry::PixelPlane plane[2];        // where the transverse and sagittal pixels are [mm] (isodose lines)
 };
 
 class UltrasoundWorker {

@@ -33,6 +33,14 @@ const LiveDosimetry::Result& LiveDosimetry::update(const std::vector<Seed>& seed
   return result_;
 }
 
+std::shared_ptr<const DoseField> LiveDosimetry::field() const {
+  auto f = std::make_shared<DoseField>();
+  f->spec = acc_.spec();
+  f->dose_gy = acc_.dose_gy();
+  f->prescription_gy = rx_;
+  return f;
+}
+
 double LiveDosimetry::dose_at(const Vec3& p) const {
   const GridSpec& g = acc_.spec();
   const Vec3 q = (p - g.origin_mm) / g.spacing_mm;

@@ -1,12 +1,16 @@
 // The implant's dose as the seeds drop, for the trainee window's dose worker (off the physics
 // thread): the dose grid brought up to date incrementally (dose_grid.h: one seed pass per new or
 // moved seed), the structure masks rebuilt on the organs where they are now, the indices and the
-// cumulative DVH; and the dose at any point (trilinear on the grid) for isodose lines.
+// cumulative DVH; the dose at any point (trilinear on the grid) and a copy of the grid for isodose
+// lines and surfaces (isodose.h).
 #pragma once
 #include <array>
 #include <vector>
 
+#include <memory>
+
 #include "engine/dosimetry/dvh.h"
+#include "engine/dosimetry/isodose.h"
 
 namespace ps::dosimetry {
 
@@ -27,6 +31,8 @@ class LiveDosimetry {
   const Result& result() const { return result_; }
   // Dose at p [Gy], trilinear between voxel centres; 0 outside the grid.
   double dose_at(const Vec3& p_mm) const;
+  // A copy of the grid and its dose as they are now (for isodose lines and surfaces elsewhere).
+  std::shared_ptr<const DoseField> field() const;
   const GridSpec& spec() const { return acc_.spec(); }
   double prescription_gy() const { return rx_; }
 

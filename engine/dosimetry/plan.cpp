@@ -7,6 +7,7 @@
 
 #include "engine/dosimetry/dose_grid.h"
 #include "engine/dosimetry/organ_mask.h"
+#include "engine/dosimetry/plan_annealing.h"
 #include "engine/dosimetry/template_grid.h"
 #include "engine/util/error.h"
 
@@ -15,6 +16,8 @@ namespace ps::dosimetry {
 namespace {
 
 constexpr uint8_t kBone = 8;
+constexpr int kAnnealRounds = 8;            // annealing rounds at most (weights raised between them)
+constexpr uint64_t kAnnealSeed = 46;        // the random stream of the first round (round r: 46 + r)
 
 Vec3 lo_of(const std::vector<Vec3>& v) {
   Vec3 lo = v.front();
@@ -113,7 +116,7 @@ Plan optimise_plan(const PlanInput& in) {
   // planning grid (2 mm) and final grid (1 mm)
   const GridSpec pg = gland_grid(in.prostate_mm, 10.0, 2.0);
   const GridSpec fg = gland_grid(in.prostate_mm, 10.0, 1.0);
-  std::vector<uint8_t> pm = structure_mask(pg, in.prostate_mm, in.prostate_faces, in.rectum_mm, in.rectum_faces,
+  const std::vector<uint8_t> pm = structure_mask(pg, in.prostate_mm, in.prostate_faces, in.rectum_mm, in.rectum_faces,
                                            in.urethra_mm, in.urethra_radius_mm);
   const std::vector<uint8_t> fm = structure_mask(fg, in.prostate_mm, in.prostate_faces, in.rectum_mm, in.rectum_faces,
                                                  in.urethra_mm, in.urethra_radius_mm);
@@ -141,84 +144,84 @@ Plan optimise_plan(const PlanInput& in) {
     throw InputError("", 0, "holes", "no template line reaches the gland (is the template in front of the prostate?)");
 
   // structure voxels of the planning grid and each candidate's dose to them
+  PlanningMatrix M;
   std::vector<size_t> vox;
-  std::vector<uint8_t> kind;
   for (size_t i = 0; i < pm.size(); ++i)
     if (pm[i]) {
       vox.push_back(i);
-      kind.push_back(pm[i]);
+      M.kind.push_back(pm[i]);
     }
   const DoseKernel kernel(*in.model);
-  const size_t nv = vox.size(), nc = cands.size();
-  std::vector<float> dose(nc * nv);
-  for (size_t c = 0; c < nc; ++c) {
-    const Vec3 a = in.holes[cands[c].hole].direction;
-    for (size_t q = 0; q < nv; ++q) {
+  M.candidates = cands.size();
+  M.voxels = vox.size();
+  M.dose_gy.resize(M.candidates * M.voxels);
+  for (size_t c = 0; c < M.candidates; ++c) {
+    const PlanHole& hole = in.holes[cands[c].hole];
+    M.hole.push_back(static_cast<int>(cands[c].hole));
+    M.col.push_back(hole.col);
+    M.row.push_back(hole.row);
+    M.step.push_back(static_cast<int>(std::lround(cands[c].depth_mm / in.step_mm)));
+    const Vec3 a = hole.direction;
+    for (size_t q = 0; q < M.voxels; ++q) {
       const size_t i = vox[q];
       const int x = static_cast<int>(i % pg.nx), y = static_cast<int>((i / pg.nx) % pg.ny), z = static_cast<int>(i / (pg.nx * pg.ny));
       const Vec3 d = pg.centre_mm(x, y, z) - cands[c].at_mm;
       const double along = d.dot(a);
       const double away = std::sqrt(std::max(0.0, d.squaredNorm() - along * along));
-      dose[c * nv + q] = static_cast<float>(in.strength_u * kernel.gy_per_u(std::abs(along), away));
+      M.dose_gy[c * M.voxels + q] = static_cast<float>(in.strength_u * kernel.gy_per_u(std::abs(along), away));
     }
   }
-  size_t n_prostate = 0;
-  for (uint8_t k : kind) n_prostate += (k & kProstate) ? 1 : 0;
 
-  const double w_hot = 0.15, w_ure = 10.0, w_rect = 4.0;
-  std::vector<double> D(nv, 0.0);
-  std::vector<char> used(nc, 0);
-  std::vector<size_t> chosen;
-  auto excess = [](double v, double lim) { return v > lim ? v - lim : 0.0; };
-  auto planning_v100 = [&] {
-    size_t n = 0;
-    for (size_t q = 0; q < nv; ++q)
-      if ((kind[q] & kProstate) && D[q] >= rx) ++n;
-    return static_cast<double>(n) / static_cast<double>(std::max<size_t>(1, n_prostate));
-  };
-  Plan plan;
-  double target = 0.965;
-  for (int round = 0; round < 6; ++round) {
-    while (planning_v100() < target) {
-      double best = -INFINITY;
-      size_t pick = nc;
-      for (size_t c = 0; c < nc; ++c) {
-        if (used[c]) continue;
-        const float* dc = &dose[c * nv];
-        double g = 0.0;
-        for (size_t q = 0; q < nv; ++q) {
-          const double now = D[q], add = dc[q], next = now + add;
-          const uint8_t k = kind[q];
-          if (k & kProstate) {
-            g += std::min(add, std::max(0.0, rx - now)) / rx;
-            g -= w_hot * (excess(next, 1.5 * rx) - excess(now, 1.5 * rx)) / rx;
-          }
-          if (k & kUrethra) g -= w_ure * (excess(next, 1.0 * rx) - excess(now, 1.0 * rx)) / rx;
-          if (k & kRectum) g -= w_rect * (excess(next, 0.75 * rx) - excess(now, 0.75 * rx)) / rx;
-        }
-        if (g > best) { best = g; pick = c; }
-      }
-      if (pick == nc) break;  // every candidate used
-      used[pick] = 1;
-      chosen.push_back(pick);
-      for (size_t q = 0; q < nv; ++q) D[q] += dose[pick * nv + q];
-    }
-    // needles from the chosen candidates, in hole order, seeds deepest first
+  auto plan_of = [&](const std::vector<char>& loaded) {
+    Plan p;
+    // needles from the loaded candidates, in hole order, seeds deepest first
     std::map<size_t, std::vector<double>> by_hole;
-    for (size_t c : chosen) by_hole[cands[c].hole].push_back(cands[c].depth_mm);
-    plan.needles.clear();
+    for (size_t c = 0; c < cands.size(); ++c)
+      if (loaded[c]) by_hole[cands[c].hole].push_back(cands[c].depth_mm);
     for (auto& [h, depths] : by_hole) {
       std::sort(depths.begin(), depths.end(), std::greater<double>());
       const PlanHole& hole = in.holes[h];
-      plan.needles.push_back({hole.col, hole.row, template_hole_label(hole.col, hole.row), hole.entry_mm, hole.direction, depths});
+      p.needles.push_back({hole.col, hole.row, template_hole_label(hole.col, hole.row), hole.entry_mm, hole.direction, depths});
+      p.seeds += static_cast<int>(depths.size());
     }
-    plan.seeds = static_cast<int>(chosen.size());
-    plan.predicted = evaluate(in, fg, fm, plan.seed_list(in.strength_u));
-    if (plan.predicted.prostate_v100 >= 0.95 || chosen.size() == nc) break;
-    target = std::min(0.995, target + 0.01);
+    p.predicted = evaluate(in, fg, fm, p.seed_list(in.strength_u));
+    p.checks = check_constraints(p.predicted);
+    return p;
+  };
+  // how far a plan is from its constraints (0: feasible)
+  auto shortfall = [](const Plan& p) {
+    double s = 0.0;
+    for (const ConstraintCheck& c : p.checks)
+      if (!c.pass) s += std::abs(c.value - c.limit) / std::max(1e-9, std::abs(c.limit)) + 1e-3;
+    return s;
+  };
+
+  // annealing rounds: each starts from the last loading; the weight of each constraint the last
+  // plan missed (on the 1 mm grid) is raised before the next
+  AnnealWeights w;
+  std::vector<char> loaded;
+  Plan best;
+  double best_short = INFINITY;
+  const long iterations = std::max<long>(20000, 150 * static_cast<long>(M.candidates));
+  for (int round = 0; round < kAnnealRounds; ++round) {
+    const AnnealResult a = anneal_loading(M, rx, w, loaded, kAnnealSeed + static_cast<uint64_t>(round), iterations);
+    loaded = a.loaded;
+    Plan p = plan_of(loaded);
+    p.rounds = round + 1;
+    p.cost = a.cost;
+    const double sf = shortfall(p);
+    if (sf < best_short) {
+      best_short = sf;
+      best = p;
+    }
+    if (p.feasible()) break;
+    const DosimetryIndices& x = p.predicted;
+    if (x.prostate_v100 < 0.95 || x.prostate_d90_gy < rx) w.under *= 1.6;
+    if (x.prostate_d90_gy > 1.2 * rx) w.over *= 2.0;
+    if (x.urethra_d10_gy >= 1.5 * rx) w.urethra *= 2.0;
+    if (x.rectum_d2cc_gy >= rx) w.rectum *= 2.0;
   }
-  plan.checks = check_constraints(plan.predicted);
-  return plan;
+  return best;
 }
 
 std::string plan_yaml(const Plan& p, const PlanInput& in, const std::string& scenario) {
@@ -240,6 +243,7 @@ std::string plan_yaml(const Plan& p, const PlanInput& in, const std::string& sce
   s += "  strength_u: " + f(in.strength_u, 3) + "\n";
   s += "  seed_step_mm: " + f(in.step_mm, 1) + "\n";
   s += "  seeds: " + std::to_string(p.seeds) + "\n";
+  s += "  optimiser: simulated annealing (engine/dosimetry/plan_annealing.h), " + std::to_string(p.rounds) + " round(s)\n";
   s += "  needles:\n";
   for (const PlannedNeedle& n : p.needles) {
     std::string seeds;

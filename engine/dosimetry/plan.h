@@ -1,19 +1,16 @@
 // Pre-implant plan of a permanent seed implant (`prostatesim plan`): seed positions on template
-// lines at 5 mm steps inside the prostate's rest shape, chosen by a greedy optimiser, and the
+// lines at 5 mm steps inside the prostate's rest shape, chosen by simulated annealing, and the
 // plan's dose-volume indices checked against the usual constraints.
 //
 // Optimiser (deterministic): candidates are the points at step_mm along each template hole's
 // line that lie in the gland, at least min_urethra_mm from the urethra's centre line, on a line
 // that does not cross the rectum or bone before them. The dose of one seed at each candidate to
-// every structure voxel of a planning grid (2 mm) is tabulated; seeds are then added one at a
-// time, each time the candidate of the largest gain
-//   gain = sum over prostate voxels of min(d, max(0, Rx - D)) / Rx            (coverage)
-//        - w_hot  x increase of sum over prostate voxels of max(0, D - 1.5 Rx) / Rx
-//        - w_ure  x increase of sum over urethra voxels of max(0, D - Rx) / Rx
-//        - w_rect x increase of sum over rectum voxels of max(0, D - 0.75 Rx) / Rx,
-// (w_hot 0.15, w_ure 10, w_rect 4; the best candidate is taken even when its gain is negative)
-// until the planning grid's V100 reaches its target; the plan is then evaluated on the 1 mm
-// grid, and the target raised by a point and the loop resumed while V100 < 95 % there.
+// every structure voxel of a planning grid (2 mm) is tabulated; the loading is then found by
+// simulated annealing over that matrix (plan_annealing.h: linear penalties on prostate under- and
+// overdose, urethra and rectum overdose and per needle), starting from no seed. The plan is
+// evaluated on the 1 mm grid against the constraints; while one is missed the weight of its
+// penalty is raised and the annealing resumed from the last loading (at most 8 rounds). The
+// first plan that meets them all is returned, else the one that misses them by least.
 #pragma once
 #include <array>
 #include <string>
@@ -68,6 +65,8 @@ struct Plan {
   int seeds = 0;
   DosimetryIndices predicted;       // on the 1 mm grid
   std::vector<ConstraintCheck> checks;
+  int rounds = 0;                   // annealing rounds run to reach this plan
+  double cost = 0.0;                // its annealing cost (plan_annealing.h)
   bool feasible() const;
   std::vector<Seed> seed_list(double strength_u) const;
 };

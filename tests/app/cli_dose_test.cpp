@@ -83,4 +83,39 @@ TEST(CliDose, PlanRejectsANonPositiveStrength) {
   EXPECT_FALSE(fs::exists(dir / "p.yaml"));
 }
 
+// Issue 46 item 2: the default anatomy's plan at 145 Gy meets all four constraints (simulated
+// annealing, engine/dosimetry/plan_annealing.h), and the plan file reads back as the scene's
+// needles.
+TEST(CliDose, PlanOnTheDefaultAnatomyMeetsEveryConstraint) {
+  const fs::path dir = ps::test::cli_temp_dir("plan_ok");
+  const fs::path out = dir / "plan.yaml";
+  const Result r = run("plan " + kSource + "/config/brachytherapy.yaml --prescription-gy 145 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(r.out.find("NOT MET"), std::string::npos) << r.out;
+  for (const char* c : {"prostate V100 >= 95 %", "prostate D90 >= 100 %", "prostate D90 <= 120 %", "urethra D10 < 150 %",
+                        "rectum D2cc < prescription"})
+    EXPECT_NE(r.out.find(c), std::string::npos) << c << "\n" << r.out;
+  ASSERT_TRUE(fs::exists(out));
+  std::ifstream in(out);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("pass: true"), std::string::npos);
+  EXPECT_EQ(text.find("pass: false"), std::string::npos);
+  // the same input, the same plan (a fixed random stream)
+  const fs::path again = dir / "again.yaml";
+  ASSERT_EQ(run("plan " + kSource + "/config/brachytherapy.yaml --prescription-gy 145 --out " + again.string()).code, 0);
+  std::ifstream in2(again);
+  const std::string text2((std::istreambuf_iterator<char>(in2)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, text2);
+}
+
+// Seeds of 0.05 U cannot cover the gland however many are loaded: exit 1 naming the constraint,
+// nothing written.
+TEST(CliDose, PlanThatCannotMeetItsConstraintsExits1NamingIt) {
+  const fs::path dir = ps::test::cli_temp_dir("plan_infeasible");
+  const Result r = run("plan " + kSource + "/config/brachytherapy.yaml --strength-u 0.05 --out " + (dir / "p.yaml").string());
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("the plan cannot meet 'prostate V100 >= 95 %'"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(dir / "p.yaml"));
+}
+
 }  // namespace

@@ -9,6 +9,7 @@
 #include <cstdlib>
 
 #include "engine/contract/snapshot.h"
+#include "engine/dosimetry/isodose.h"
 #include "render/headless_context.h"
 #include "render/render_error.h"
 
@@ -226,6 +227,41 @@ TEST_F(RendererTest, TransparentSurfaceShowsWhatIsBehindIt) {
   rgb = draw(r, cam, opt);
   EXPECT_LT(at(rgb, cx, cy).b, 40);
   EXPECT_GT(at(rgb, cx, cy).r, 150);
+}
+
+// The prescription isodose surface (Renderer::set_isodose, render/isodose_mesh.cpp): a one-seed
+// surface (~5 mm radius, given in millimetres) tints the background translucently where it
+// projects and nowhere else, an opaque sphere inside it shows through, and an empty surface
+// removes it.
+TEST_F(RendererTest, IsodoseSurfaceIsTranslucentWhereProjectedAndRemovable) {
+  dosimetry::DoseField f;
+  f.spec = dosimetry::grid_around(Vec3(-12, -12, -12), Vec3(12, 12, 12), 0.0, 1.0);
+  dosimetry::DoseAccumulator acc(*dosimetry::find_source_model("I125_6711"), f.spec);
+  acc.rebuild({dosimetry::Seed{Vec3::Zero(), Vec3::UnitY(), 0.5}});
+  f.dose_gy = acc.dose_gy();
+  const dosimetry::IsoSurface iso = dosimetry::isodose_surface(f, 40.0);  // ~5 mm from the seed
+  ASSERT_FALSE(iso.faces.empty());
+  Renderer r(empty_scene());
+  Snapshot s;
+  s.draw.sphere(Vec3::Zero(), 0.002, {1.0f, 1.0f, 1.0f, 1.0f}, DrawRole::Target);  // white, inside the surface
+  r.update(s);
+  const Camera cam = front_camera();
+  RenderOptions opt;
+  opt.background = {0.0f, 0.0f, 0.0f, 1.0f};
+  const auto plain = draw(r, cam, opt);
+  r.set_isodose(iso, {1.0f, 0.0f, 0.0f, 0.3f});
+  const auto tinted = draw(r, cam, opt);
+  const auto [cx, cy] = project(cam, Vec3::Zero());
+  const auto [ex, ey] = project(cam, Vec3(0.0045, 0, 0));  // between the white sphere and the surface
+  const auto [fx, fy] = project(cam, Vec3(0.009, 0, 0));   // outside the surface
+  EXPECT_GT(at(tinted, ex, ey).r, at(plain, ex, ey).r + 40) << "the surface tints the background red";
+  EXPECT_EQ(at(tinted, fx, fy).r, at(plain, fx, fy).r) << "nothing outside it";
+  const Px c = at(tinted, cx, cy);
+  EXPECT_GT(c.g, 80) << "the white sphere inside shows through (" << c.r << "," << c.g << "," << c.b << ")";
+  EXPECT_LT(c.g, at(plain, cx, cy).g) << "through a tint";
+  r.set_isodose(dosimetry::IsoSurface{});
+  const auto again = draw(r, cam, opt);
+  EXPECT_EQ(again, plain) << "an empty surface removes it";
 }
 
 TEST_F(RendererTest, DisplacementColouringReachesTheTopOfTheScale) {

@@ -283,4 +283,32 @@ TEST(ReplayFrames, BadOptionsExit2AndWriteNothing) {
   EXPECT_EQ(replay("--out /proc/prostatesim_cannot_write"), 2);
 }
 
+// Issue 46: in a scene with seeds the ultrasound frames are RGB, and once seeds are in, the
+// isodose lines are drawn on the plane that crosses their dose (the shipped brachytherapy script:
+// four seeds drop by 6.25 s, along the `posterior` needle 5 mm beside the sagittal plane, which
+// cuts their 50 % isodose; colours app/frames/us_isodose.h). Before the first seed: no line.
+TEST(ReplayFrames, UltrasoundOfAnImplantShowsTheIsodoseLinesOnceSeedsAreIn) {
+  const std::string a = tmp("iso");
+  fs::remove_all(a);
+  const std::string cmd = std::string("cd " PROSTATESIM_SOURCE_DIR " && " PROSTATESIM_BINARY
+                                      " replay config/brachytherapy.yaml --script config/scripts/brachytherapy.yaml --out ") +
+                          a + " --fps 1 --views us_sagittal > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  auto count = [&](const char* frame, int r, int g, int b) {
+    const fs::path p = fs::path(a) / "us_sagittal" / frame;
+    int w = 0, h = 0, n = 0;
+    EXPECT_TRUE(stbi_info(p.string().c_str(), &w, &h, &n)) << p;
+    EXPECT_EQ(n, 3) << p << ": RGB in a scene with seeds";
+    unsigned char* img = stbi_load(p.string().c_str(), &w, &h, &n, 3);
+    if (!img) return -1L;
+    long k = 0;
+    for (int i = 0; i < w * h; ++i) k += img[3 * i] == r && img[3 * i + 1] == g && img[3 * i + 2] == b;
+    stbi_image_free(img);
+    return k;
+  };
+  EXPECT_EQ(count("frame_000000.png", 70, 150, 255), 0) << "no seed yet: no isodose line";
+  EXPECT_GT(count("frame_000006.png", 70, 150, 255), 200) << "the 50 % line around the four seeds (t = 6 s)";
+  fs::remove_all(a);
+}
+
 }  // namespace
