@@ -32,6 +32,7 @@ ReplayFramesResult replay_frames(const Scene& scene, LockstepRunner& run, int64_
     us->anatomy = us::anatomy_for_scenario(scene.spec, *scene.model);
     us->settings = us::settings_for_probe(*scene.spec.probe);
   }
+  opt.shapes = anatomy::display_meshes_for_scenario(scene.spec, *scene.model);
   FrameRecorder rec(*scene.model, opt, us.get());  // GL context first, then the folder
   ReplayFramesResult r;
   InstrumentsCsv instruments;  // instruments.csv: the needles' and the probe's poses at every frame
