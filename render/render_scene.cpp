@@ -67,6 +67,9 @@ RenderScene make_render_scene(const Model& m, const std::vector<anatomy::Display
     rs.name = d.name;
     rs.kind = d.kind == anatomy::DisplayMesh::Bone ? OrganKind::Bone : OrganKind::SeminalVesicle;
     rs.colour = organ_colour(rs.kind);
+    // the symphysis lies in front of the gland: drawn half-clear so that the anterior view still
+    // shows the prostate (the physical arch under it stays opaque)
+    if (d.kind == anatomy::DisplayMesh::Bone) rs.colour.a = 0.5f;
     rs.carry_particles = d.carriers;
     rs.carry_weights = d.weights;
     rs.carry_offsets = d.offsets;

@@ -74,10 +74,10 @@ struct PubicArchParams {
 // (no particles): the ultrasound images them and the 3D view draws them, both carried by the tissue
 // around them (engine/anatomy/display_meshes.h).
 struct SeminalVesicleParams {
-  Vec3 medial_end = Vec3(2.5e-3, -12.5e-3, 19.5e-3);   // right vesicle, near the base midline [m]
+  Vec3 medial_end = Vec3(2.5e-3, -12.0e-3, 19.5e-3);   // right vesicle, near the base midline [m]
   Vec3 lateral_end = Vec3(30.0e-3, -18.5e-3, 36.0e-3); // right vesicle, superolateral tip [m]
   double half_width = 7.0e-3;        // across the long axis, in the coronal plane [m]
-  double half_thickness = 4.0e-3;    // antero-posterior [m]
+  double half_thickness = 3.5e-3;    // antero-posterior [m]
   double bend = 2.0e-3;              // posterior sag of the middle [m]
   int sphere_levels = 2;             // 162 vertices each
 };

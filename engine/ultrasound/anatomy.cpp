@@ -164,8 +164,8 @@ UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt) {
     u.spacing = mc.spacing;
     u.faces = m.surfaces[mc.surface].faces;
     volume.push_back(enclosed_volume(m.rest_pos, u.faces));
-    if (u.tissue == Tissue::Bladder && opt.bladder_subdivisions > 0) {
-      // smooth membrane: the particle triangles subdivided at rest, carried by the membrane's particles
+    if ((u.tissue == Tissue::Bladder || u.tissue == Tissue::Bone) && opt.smooth_subdivisions > 0) {
+      // smooth surface: the particle triangles subdivided at rest, carried by the component's particles
       std::vector<int> local(m.particle_count(), -1), carriers;
       std::vector<Vec3> v;
       std::vector<std::array<int, 3>> f;
@@ -177,7 +177,7 @@ UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt) {
         }
         f.push_back(g);
       }
-      loop_subdivide(v, f, opt.bladder_subdivisions);
+      loop_subdivide(v, f, opt.smooth_subdivisions);
       const int base = add_carried(a, m.rest_pos, v, carriers);
       u.faces.clear();
       for (const auto& t : f) u.faces.push_back({base + t[0], base + t[1], base + t[2]});

@@ -23,11 +23,11 @@ struct AnatomyOptions {
   // prostatic calcifications in rest space: centre [m] and radius [m] (optional, per case)
   std::vector<std::pair<Vec3, double>> calcifications;
   double voxel = 1.0e-3;           // prostate echo volume voxel [m]
-  // The bladder's membrane is imaged through a smooth surface: its particle triangles (8 mm in the
-  // scenes) Loop-subdivided this many times at rest (2: ~2 mm edges), each new vertex carried by
-  // its 4 nearest membrane particles. A cut through the coarse triangles showed the bladder as a
-  // polygon with straight walls; 0: the particle triangles themselves.
-  int bladder_subdivisions = 2;
+  // The bladder and the bones are imaged through smooth surfaces: their particle triangles (7-8 mm in
+  // the scenes) Loop-subdivided this many times at rest (2: ~2 mm edges), each new vertex carried by
+  // its 4 nearest particles of the component. A cut through the coarse triangles showed them as
+  // polygons with straight walls (the pubic arch's 7 mm tube as a V); 0: the particle triangles.
+  int smooth_subdivisions = 2;
   // shapes imaged but not simulated (engine/anatomy/display_meshes.h): each seminal vesicle becomes
   // a component of tissue SeminalVesicle over carried vertices; the pubic bone as drawn is not
   // imaged (its parts overlap; the physics' pubic arch is)

@@ -10,7 +10,7 @@
 // absorption, and must be total within ~1 mm. Speed of sound: 1540 m/s throughout (the scanner's
 // assumption, imager.h), so no refraction or range distortion is modelled. Seminal vesicles: on TRUS
 // hypoechoic to the gland with a mottled inside (fluid in convoluted tubules between echogenic
-// folds; Halpern 2008) and a bright wall: echo 0.35 with a +-60 % texture, attenuation 0.3 (mostly
+// folds; Halpern 2008) and a thin wall: echo 0.25 with a +-50 % texture, attenuation 0.3 (mostly
 // fluid, between urine and soft tissue).
 #include "engine/ultrasound/scene.h"
 
@@ -24,7 +24,7 @@ const TissueAcoustics& acoustics(Tissue t) {
   static const TissueAcoustics kRectum{0.0f, 0.0f, 0.0022f, 2.0f, 1.2f, 3.0e-3f, 0.35f};
   static const TissueAcoustics kBone{0.0f, 0.0f, 15.0f, 10.0f, 4.0f, 0.0f, 0.0f};
   static const TissueAcoustics kGas{0.0f, 0.0f, 80.0f, 12.0f, 6.0f, 0.0f, 0.0f};
-  static const TissueAcoustics kSeminalVesicle{0.35f, 0.6f, 0.3f, 1.2f, 1.0f, 0.0f, 0.0f};
+  static const TissueAcoustics kSeminalVesicle{0.25f, 0.5f, 0.3f, 0.6f, 0.4f, 0.0f, 0.0f};
   static const TissueAcoustics kSoft{1.0f, 0.0f, 0.6f, 0.8f, 0.4f, 0.0f, 0.0f};
   switch (t) {
     case Tissue::Prostate: return kProstate;

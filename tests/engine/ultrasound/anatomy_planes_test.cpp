@@ -1,8 +1,9 @@
 // The anatomy as the default planes show it (issue 47, "anatomy that reads right"): the default
 // probe pose's sagittal plane spans the gland from base to apex; the seminal vesicles are
 // hypoechoic and lie posterior-superior to the base (sagittal, the probe turned to each side, and
-// transverse at their level, both sides: the "bow-tie"); the bladder's edge seen from the gland is
-// curved, not a polygon of straight walls; the urethra is a subtle hypoechoic line.
+// transverse at their level, both sides: the "bow-tie"); the edges of the bladder and of the pubic
+// arch seen from the probe are curves, not polygons of straight walls; the urethra is a subtle
+// hypoechoic line.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -101,8 +102,6 @@ TEST(UltrasoundAnatomyPlanes, SeminalVesiclesArePosteriorSuperiorToTheBaseAndHyp
   ASSERT_GE(sv0, 0) << "no seminal vesicles in the default anatomy";
   ASSERT_GE(sv1, 0);
   const auto [apex, base] = gland_z(S);
-  const int bladder = component_of(S.anatomy, us::Tissue::Bladder);
-  ASSERT_GE(bladder, 0);
   const us::ProbeView pose = default_pose();
   // sagittal, the probe pushed 8 mm in (the vesicles run superolaterally out of the default field)
   // and turned 25 degrees to each side: the right vesicle, then the left
@@ -132,46 +131,56 @@ TEST(UltrasoundAnatomyPlanes, SeminalVesiclesArePosteriorSuperiorToTheBaseAndHyp
 
 // The bladder as the sagittal plane cuts it, from the probe's side: for each column the edge
 // nearest the probe. It must be curved (far from its chord) and smooth: a quadratic fits it to
-// within the pixel rounding, where the cut through the 8 mm particle triangles (the same anatomy
-// with bladder_subdivisions = 0) is a polygon of straight walls that a quadratic does not fit.
-struct BladderEdge {
+// within the pixel rounding over every 4 mm of it (the same measure for the pubic arch below, where
+// the cut through its 7 mm particle triangles, smooth_subdivisions = 0, is a polygon).
+struct NearEdge {
   size_t columns = 0;
   double chord_dev = 0.0, fit_rms = 0.0;  // [px]
+  size_t windows = 0;                      // 4 mm windows fitted
 };
-BladderEdge bladder_edge(const us::UltrasoundAnatomy& an, const us::UltrasoundSettings& set, const std::vector<float>& x,
-                         const us::ProbeView& pose) {
-  const int bladder = component_of(an, us::Tissue::Bladder);
+NearEdge near_edge(const us::UltrasoundAnatomy& an, const us::UltrasoundSettings& set, const std::vector<float>& x,
+                   const us::ProbeView& pose, us::Tissue tissue) {
+  const int comp = component_of(an, tissue);
   PlaneImager sg(an, set, PlaneKind::Sagittal);
   const us::UsImage& img = sg.render(scene_of(x, pose));
-  std::vector<std::pair<double, double>> edge;  // column, lowest bladder row (nearest the probe) [px]
+  std::vector<std::pair<double, double>> edge;  // column, lowest row of the component (nearest the probe) [px]
   for (int i = 0; i < img.width; ++i)
     for (int j = img.height - 1; j >= 0; --j)
-      if (img.label[static_cast<size_t>(j) * img.width + i] == bladder && img.in_view[static_cast<size_t>(j) * img.width + i]) {
+      if (img.label[static_cast<size_t>(j) * img.width + i] == comp && img.in_view[static_cast<size_t>(j) * img.width + i]) {
         edge.emplace_back(i, j);
         break;
       }
-  BladderEdge r;
+  NearEdge r;
   r.columns = edge.size();
   if (edge.size() < 3) return r;
   const auto [i0, j0] = edge.front();
   const auto [i1, j1] = edge.back();
   for (const auto& [i, j] : edge) r.chord_dev = std::max(r.chord_dev, std::abs(j - (j0 + (j1 - j0) * (i - i0) / std::max(1.0, i1 - i0))));
-  // least-squares quadratic row(column)
-  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d b = Eigen::Vector3d::Zero();
-  const double c0 = 0.5 * (i0 + i1);
-  for (const auto& [i, j] : edge) {
-    const Eigen::Vector3d v(1.0, i - c0, (i - c0) * (i - c0));
-    A += v * v.transpose();
-    b += j * v;
-  }
-  const Eigen::Vector3d q = A.ldlt().solve(b);
+  // least-squares quadratic row(column) over each 4 mm window (half overlapping) where the edge runs
+  // within 45 degrees of the image's rows (row per column well defined): rms of the residuals
+  const size_t w = static_cast<size_t>(std::lround(4e-3 / img.pixel));
   double ss = 0.0;
-  for (const auto& [i, j] : edge) {
-    const double d = i - c0, e = j - (q[0] + q[1] * d + q[2] * d * d);
-    ss += e * e;
+  size_t n = 0;
+  for (size_t a = 0; a + w <= edge.size(); a += w / 2) {
+    if (std::abs(edge[a + w - 1].second - edge[a].second) > static_cast<double>(w)) continue;
+    if (edge[a + w - 1].first - edge[a].first != static_cast<double>(w - 1)) continue;  // contiguous columns
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    const double c0 = edge[a + w / 2].first;
+    for (size_t k = a; k < a + w; ++k) {
+      const Eigen::Vector3d v(1.0, edge[k].first - c0, (edge[k].first - c0) * (edge[k].first - c0));
+      A += v * v.transpose();
+      b += edge[k].second * v;
+    }
+    const Eigen::Vector3d q = A.ldlt().solve(b);
+    for (size_t k = a; k < a + w; ++k) {
+      const double d = edge[k].first - c0, e = edge[k].second - (q[0] + q[1] * d + q[2] * d * d);
+      ss += e * e;
+      ++n;
+    }
   }
-  r.fit_rms = std::sqrt(ss / edge.size());
+  r.windows = n / std::max<size_t>(1, w);
+  r.fit_rms = n ? std::sqrt(ss / n) : 0.0;
   return r;
 }
 
@@ -180,16 +189,40 @@ TEST(UltrasoundAnatomyPlanes, BladderEdgeIsCurvedInTheSagittalPlane) {
   const std::vector<float> x = test::rest_positions(*S.model);
   const us::ProbeView pose = test::moved_probe(default_pose(), 0.012, 0.0);  // further in: more bladder in view
   us::AnatomyOptions coarse_opt;
-  coarse_opt.bladder_subdivisions = 0;
+  coarse_opt.smooth_subdivisions = 0;
   const us::UltrasoundAnatomy coarse = us::build_anatomy(*S.model, coarse_opt);
-  const BladderEdge smooth = bladder_edge(S.anatomy, S.settings, x, pose), poly = bladder_edge(coarse, S.settings, x, pose);
+  const NearEdge smooth = near_edge(S.anatomy, S.settings, x, pose, us::Tissue::Bladder);
+  const NearEdge poly = near_edge(coarse, S.settings, x, pose, us::Tissue::Bladder);
   const double px = PlaneImager(S.anatomy, S.settings, PlaneKind::Sagittal).image().pixel;
-  std::printf("sagittal bladder edge over %zu columns (%.1f mm): %.1f mm from its chord; quadratic fit rms %.2f px (%.3f mm); "
-              "the particle triangles: rms %.2f px\n",
-              smooth.columns, smooth.columns * px * 1e3, smooth.chord_dev * px * 1e3, smooth.fit_rms, smooth.fit_rms * px * 1e3, poly.fit_rms);
+  std::printf("sagittal bladder edge over %zu columns (%.1f mm): %.1f mm from its chord; quadratic fit per 4 mm (%zu windows) rms %.2f px "
+              "(%.3f mm); the particle triangles: rms %.2f px\n",
+              smooth.columns, smooth.columns * px * 1e3, smooth.chord_dev * px * 1e3, smooth.windows, smooth.fit_rms, smooth.fit_rms * px * 1e3,
+              poly.fit_rms);
   ASSERT_GT(smooth.columns * px, 10e-3) << "less than 10 mm of bladder edge in the plane";
   EXPECT_GT(smooth.chord_dev * px, 1.0e-3) << "the edge is a straight line";
-  EXPECT_LT(smooth.fit_rms, 1.0) << "not a smooth curve";
+  ASSERT_GE(smooth.windows, 3u);
+  EXPECT_LT(smooth.fit_rms, 0.5) << "not a smooth curve: more than the pixel rounding (0.29 px rms)";
+}
+
+// The pubic arch in the midsagittal plane (anterior to the apex): its edge towards the probe is the
+// arc of the 7 mm tube's section, not the V that its 7 mm particle triangles cut.
+TEST(UltrasoundAnatomyPlanes, PubicArchEdgeIsAnArcInTheSagittalPlane) {
+  const auto& S = test::us_biopsy_scene();
+  const std::vector<float> x = test::rest_positions(*S.model);
+  const us::ProbeView pose = default_pose();
+  us::AnatomyOptions coarse_opt;
+  coarse_opt.smooth_subdivisions = 0;
+  const us::UltrasoundAnatomy coarse = us::build_anatomy(*S.model, coarse_opt);
+  const NearEdge smooth = near_edge(S.anatomy, S.settings, x, pose, us::Tissue::Bone);
+  const NearEdge poly = near_edge(coarse, S.settings, x, pose, us::Tissue::Bone);
+  const double px = PlaneImager(S.anatomy, S.settings, PlaneKind::Sagittal).image().pixel;
+  std::printf("sagittal pubic arch edge over %zu columns (%.1f mm): %.1f mm from its chord; quadratic fit per 4 mm (%zu windows) rms %.2f px; "
+              "the particle triangles: %zu columns, rms %.2f px\n",
+              smooth.columns, smooth.columns * px * 1e3, smooth.chord_dev * px * 1e3, smooth.windows, smooth.fit_rms, poly.columns, poly.fit_rms);
+  ASSERT_GT(smooth.columns * px, 8e-3) << "the arch is not in the plane";
+  ASSERT_GE(smooth.windows, 2u);
+  EXPECT_GT(smooth.chord_dev * px, 1.0e-3) << "a flat edge";
+  EXPECT_LT(smooth.fit_rms, 0.5) << "not a smooth arc";
   EXPECT_LT(smooth.fit_rms, 0.6 * poly.fit_rms) << "no smoother than the particle triangles";
 }
 
