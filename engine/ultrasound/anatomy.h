@@ -25,8 +25,8 @@ struct AnatomyOptions {
   double voxel = 1.0e-3;           // prostate echo volume voxel [m]
   // The bladder and the bones are imaged through smooth surfaces: their particle triangles (7-8 mm in
   // the scenes) Loop-subdivided this many times at rest (2: ~2 mm edges), each new vertex carried by
-  // its 4 nearest particles of the component. A cut through the coarse triangles showed them as
-  // polygons with straight walls (the pubic arch's 7 mm tube as a V); 0: the particle triangles.
+  // its 4 nearest particles of the component. A cut through the coarse triangles is a polygon with
+  // straight walls (the pubic arch's 7 mm tube a V); 0: image the particle triangles themselves.
   int smooth_subdivisions = 2;
   // shapes imaged but not simulated (engine/anatomy/display_meshes.h): each seminal vesicle becomes
   // a component of tissue SeminalVesicle over carried vertices; the pubic bone as drawn is not
