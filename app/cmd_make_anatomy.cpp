@@ -46,7 +46,7 @@ void add_make_anatomy_command(CLI::App& app, Runner& run) {
   auto out = std::make_shared<std::string>("assets/anatomy");
   auto seg = std::make_shared<std::string>();
   auto labels = std::make_shared<std::string>();
-  CLI::App* sub = app.add_subcommand("make-anatomy", "generate the default pelvic anatomy meshes (prostate, bladder, rectum, fat, pubic arch), or a patient's case from a label map");
+  CLI::App* sub = app.add_subcommand("make-anatomy", "generate the default pelvic anatomy meshes (prostate, bladder, rectum, fat, pubic arch; seminal vesicles and the pubic bone as drawn), or a patient's case from a label map");
   sub->add_option("--out", *out, "output folder (created)")->capture_default_str();
   sub->add_option("--from-labels", *seg, "a segmentation's label map (.nrrd, .nhdr, .nii, .nii.gz, as 3D Slicer exports it): writes a patient's case (organ OBJs and scenario.yaml) into --out");
   sub->add_option("--labels", *labels, "with --from-labels: organ=label list, e.g. prostate=1,bladder=2,rectum=3,bone=4,fat=5 (prostate and rectum required; a '+' joins labels: prostate=1+2)");
@@ -64,7 +64,9 @@ void add_make_anatomy_command(CLI::App& app, Runner& run) {
       std::printf("%-11s %9s %7s %24s\n", "organ", "vol cm^3", "faces", "extent x*y*z mm");
       const std::pair<const char*, const TriMesh*> organs[] = {{"prostate", &a.prostate}, {"bladder", &a.bladder},
                                                                  {"rectum", &a.rectum},     {"fat", &a.fat},
-                                                                 {"pubic_arch", &a.pubic_arch}};
+                                                                 {"pubic_arch", &a.pubic_arch},
+                                                                 {"sem.vesic.", &a.seminal_vesicles},
+                                                                 {"pubic_bone", &a.pubic_bone}};
       for (const auto& [name, m] : organs) {
         Vec3 lo = m->vertices.front(), hi = lo;
         for (const Vec3& v : m->vertices) { lo = lo.cwiseMin(v); hi = hi.cwiseMax(v); }

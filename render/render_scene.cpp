@@ -35,11 +35,12 @@ Rgba organ_colour(OrganKind k) {
     case OrganKind::Fat: return {0.98f, 0.90f, 0.62f, 0.10f};
     case OrganKind::Bone: return {0.92f, 0.90f, 0.82f, 1.0f};
     case OrganKind::Other: return {0.70f, 0.70f, 0.75f, 0.8f};
+    case OrganKind::SeminalVesicle: return {0.86f, 0.70f, 0.52f, 0.85f};
   }
   return {};
 }
 
-RenderScene make_render_scene(const Model& m) {
+RenderScene make_render_scene(const Model& m, const std::vector<anatomy::DisplayMesh>& shapes) {
   RenderScene sc;
   sc.name = m.name;
   sc.particle_count = m.particle_count();
@@ -59,6 +60,23 @@ RenderScene make_render_scene(const Model& m) {
     rs.indices.reserve(3 * s.faces.size());
     for (const auto& f : s.faces)
       for (int k = 0; k < 3; ++k) rs.indices.push_back(static_cast<uint32_t>(local[f[k]]));
+    sc.surfaces.push_back(std::move(rs));
+  }
+  for (const anatomy::DisplayMesh& d : shapes) {
+    RenderSurface rs;
+    rs.name = d.name;
+    rs.kind = d.kind == anatomy::DisplayMesh::Bone ? OrganKind::Bone : OrganKind::SeminalVesicle;
+    rs.colour = organ_colour(rs.kind);
+    // the symphysis lies in front of the gland: drawn half-clear so that the anterior view still
+    // shows the prostate (the physical arch under it stays opaque)
+    if (d.kind == anatomy::DisplayMesh::Bone) rs.colour.a = 0.5f;
+    rs.carry_particles = d.carriers;
+    rs.carry_weights = d.weights;
+    rs.carry_offsets = d.offsets;
+    for (const Vec3& v : d.mesh.vertices)
+      for (int k = 0; k < 3; ++k) rs.carry_rest.push_back(static_cast<float>(v[k]));
+    for (const auto& f : d.mesh.faces)
+      for (int k = 0; k < 3; ++k) rs.indices.push_back(static_cast<uint32_t>(f[k]));
     sc.surfaces.push_back(std::move(rs));
   }
   // the clearest organs last in the list (the renderer sorts transparent ones per view anyway)
@@ -136,6 +154,10 @@ RenderScene make_render_scene(const Model& m) {
     if (tube.particles.size() >= 2) sc.tubes.push_back(std::move(tube));
   }
   return sc;
+}
+
+RenderScene make_render_scene(const ScenarioSpec& spec, const Model& m) {
+  return make_render_scene(m, anatomy::display_meshes_for_scenario(spec, m));
 }
 
 }  // namespace ps::render

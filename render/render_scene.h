@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/anatomy/display_meshes.h"
 #include "engine/draw/draw_sink.h"
 #include "engine/model/role.h"
 #include "engine/util/vec.h"
@@ -19,7 +20,7 @@ struct Model;
 
 namespace ps::render {
 
-enum class OrganKind : uint8_t { Prostate, Bladder, Rectum, Fat, Bone, Other };
+enum class OrganKind : uint8_t { Prostate, Bladder, Rectum, Fat, Bone, Other, SeminalVesicle };
 
 struct RenderSurface {
   std::string name;                    // component name
@@ -27,6 +28,14 @@ struct RenderSurface {
   std::vector<int> particles;          // [nv] particle of each vertex
   std::vector<uint32_t> indices;       // [3 nf] local vertex indices, outward CCW
   Rgba colour;                         // base colour; colour.a = default opacity
+  // A shape carried by the tissue instead of particles (engine/anatomy/display_meshes.h: the
+  // seminal vesicles, the pubic bone as drawn): `particles` stays empty and vertex v lies at
+  // sum_k carry_weights[v][k] x[carry_particles[v][k]] + carry_offsets[v].
+  std::vector<std::array<int, 4>> carry_particles;
+  std::vector<std::array<float, 4>> carry_weights;
+  std::vector<Vec3> carry_offsets;     // [m]
+  std::vector<float> carry_rest;       // [3 nv] rest positions [m]
+  size_t vertex_count() const { return carry_particles.empty() ? particles.size() : carry_particles.size(); }
 };
 
 // Particles of a tag drawn as spheres (lesion, target zone).
@@ -67,8 +76,11 @@ Rgba organ_colour(OrganKind k);
 
 // Builds the scene description. Lesion markers are the tags whose role is lesion; the urethra
 // tube is the Model's centre line (Model::urethra, placed like the prostate's mesh at compile)
-// bound to the first component whose role is prostate.
-RenderScene make_render_scene(const Model& model);
+// bound to the first component whose role is prostate. `shapes` are drawn as carried surfaces
+// (anatomy::display_meshes_for_scenario(): seminal vesicles, the pubic bone as bone).
+RenderScene make_render_scene(const Model& model, const std::vector<anatomy::DisplayMesh>& shapes = {});
+// The same with the scenario's display meshes (beside the gland's mesh; none without the files).
+RenderScene make_render_scene(const ScenarioSpec& spec, const Model& model);
 
 
 }  // namespace ps::render

@@ -39,11 +39,12 @@ Renderer::Renderer(RenderScene scene) : scene_(std::move(scene)), gpu_(std::make
   for (size_t s = 0; s < scene_.surfaces.size(); ++s) {
     const RenderSurface& rs = scene_.surfaces[s];
     SurfaceGpu& sg = g.surfaces[s];
-    const size_t nv = rs.particles.size();
+    const size_t nv = rs.vertex_count();
     sg.vertices.assign(7 * nv, 0.0f);
     sg.positions.assign(3 * nv, 0.0f);
     for (size_t v = 0; v < nv; ++v)
-      for (int k = 0; k < 3; ++k) sg.positions[3 * v + k] = sg.vertices[7 * v + k] = scene_.rest[3 * rs.particles[v] + k];
+      for (int k = 0; k < 3; ++k)
+        sg.positions[3 * v + k] = sg.vertices[7 * v + k] = rs.carry_particles.empty() ? scene_.rest[3 * rs.particles[v] + k] : rs.carry_rest[3 * v + k];
     api.GenVertexArrays(1, &sg.vao);
     api.GenBuffers(1, &sg.vbo);
     api.GenBuffers(1, &sg.ibo);
@@ -140,17 +141,30 @@ void Renderer::update(const Snapshot& snap) {
     const RenderSurface& rs = scene_.surfaces[s];
     SurfaceGpu& sg = g.surfaces[s];
     float* v = sg.vertices.data();
-    const size_t nv = rs.particles.size();
+    const size_t nv = rs.vertex_count();
+    const bool carried = !rs.carry_particles.empty();
     Vec3 sum = Vec3::Zero();
     for (size_t i = 0; i < nv; ++i) {
-      const int p = rs.particles[i];
+      float now[3], rest[3];
+      if (carried) {
+        const Vec3& o = rs.carry_offsets[i];
+        for (int k = 0; k < 3; ++k) now[k] = static_cast<float>(o[k]), rest[k] = rs.carry_rest[3 * i + k];
+        for (int j = 0; j < 4; ++j) {
+          const int p = rs.carry_particles[i][j];
+          const float w = rs.carry_weights[i][j];
+          for (int k = 0; k < 3; ++k) now[k] += w * x[3 * p + k];
+        }
+      } else {
+        const int p = rs.particles[i];
+        for (int k = 0; k < 3; ++k) now[k] = x[3 * p + k], rest[k] = scene_.rest[3 * p + k];
+      }
       float d2 = 0.0f;
       for (int k = 0; k < 3; ++k) {
-        v[7 * i + k] = sg.positions[3 * i + k] = x[3 * p + k];
+        v[7 * i + k] = sg.positions[3 * i + k] = now[k];
         v[7 * i + 3 + k] = 0.0f;
-        const float d = x[3 * p + k] - scene_.rest[3 * p + k];
+        const float d = now[k] - rest[k];
         d2 += d * d;
-        sum[k] += x[3 * p + k];
+        sum[k] += now[k];
       }
       v[7 * i + 6] = std::sqrt(d2) * 1e3f;  // [mm]
     }

@@ -115,7 +115,7 @@ void rebuild(Preview& p, const EditorCommands& c, Ui& ui) {
     auto runner = std::make_unique<LockstepRunner>(*scene->sim);
     const bool new_model = !p.renderer || p.model_hash != c.doc().model_hash();
     if (new_model) {
-      auto r = std::make_unique<render::Renderer>(render::make_render_scene(*scene->model));
+      auto r = std::make_unique<render::Renderer>(render::make_render_scene(scene->spec, *scene->model));
       if (!p.renderer) {
         ui.orbit.target = r->scene().focus;
         ui.orbit.distance = r->scene().extent * 3.0;

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/anatomy/display_meshes.h"
 #include "engine/ultrasound/imager.h"
 #include "render/camera.h"
 #include "render/post_antialias.h"
@@ -28,6 +29,8 @@ struct FrameOptions {
   double displacement_max_mm = 5.0;
   bool progress = true;                      // progress bar on stderr
   int expected_frames = 0;                   // for the progress bar and the contact sheet
+  // shapes drawn but not simulated (seminal vesicles, pubic bone): anatomy::display_meshes_for_scenario()
+  std::vector<anatomy::DisplayMesh> shapes;
 };
 
 // "1280x720" -> width, height in 1..kMaxImageSide. Throws InputError (field --size).

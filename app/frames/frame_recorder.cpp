@@ -70,7 +70,7 @@ struct FrameRecorder::Impl {
         dose(std::move(d)),
         folder_ready((prepare_output_dir(opt.out_dir, opt.force), true)),
         aa(render::resolve_antialias(opt.antialias, ctx.renderer())),
-        renderer(render::make_render_scene(m)),
+        renderer(render::make_render_scene(m, opt.shapes)),
         target(opt.width, opt.height, aa == render::Antialias::Msaa ? 4 : 0),
         queue(6) {
     orbit.target = renderer.scene().focus;

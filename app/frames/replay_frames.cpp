@@ -41,6 +41,7 @@ ReplayFramesResult replay_frames(const Scene& scene, LockstepRunner& run, int64_
       dose.reset();
     }
   }
+  opt.shapes = anatomy::display_meshes_for_scenario(scene.spec, *scene.model);
   FrameRecorder rec(*scene.model, opt, us.get(), std::move(dose));  // GL context first, then the folder
   ReplayFramesResult r;
   InstrumentsCsv instruments;  // instruments.csv: the needles' and the probe's poses at every frame

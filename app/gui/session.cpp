@@ -9,7 +9,7 @@
 namespace ps::gui {
 
 void Session::make_renderer() {
-  renderer_ = std::make_unique<render::Renderer>(render::make_render_scene(*scene_->model));
+  renderer_ = std::make_unique<render::Renderer>(render::make_render_scene(scene_->spec, *scene_->model));
 }
 
 Session::Session(app::RunSession& run)

@@ -26,7 +26,7 @@ RgbImage render_3d_view(const Scene& scene, const Snapshot& snap0, const Session
   RgbImage img;
   try {
     render::HeadlessContext ctx;
-    render::Renderer rr(render::make_render_scene(*scene.model));
+    render::Renderer rr(render::make_render_scene(scene.spec, *scene.model));
     Snapshot snap = snap0;
     // the report's markers: target carried by the tissue (red), where the needle put its sample (blue)
     for (const NeedleMetrics& n : r.needles) {

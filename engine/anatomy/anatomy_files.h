@@ -20,8 +20,8 @@ struct AnatomyFile {
   std::string contents;
 };
 
-// prostate.obj, bladder.obj, rectum.obj, fat.obj, pubic_arch.obj, urethra.csv, calcifications.csv,
-// landmarks.yaml.
+// prostate.obj, bladder.obj, rectum.obj, fat.obj, pubic_arch.obj, seminal_vesicles.obj,
+// pubic_bone.obj, urethra.csv, calcifications.csv, landmarks.yaml.
 std::vector<AnatomyFile> anatomy_files(const Anatomy& anatomy);
 
 // Writes anatomy_files() into `folder` (created), each atomically. Throws std::runtime_error

@@ -50,6 +50,57 @@ double tube_axis_y_behind(const TriMesh& m, double r, double gap, double z_max) 
   return y;
 }
 
+void append(TriMesh& to, const TriMesh& part) {
+  const int off = static_cast<int>(to.vertices.size());
+  to.vertices.insert(to.vertices.end(), part.vertices.begin(), part.vertices.end());
+  for (const auto& f : part.faces) to.faces.push_back({f[0] + off, f[1] + off, f[2] + off});
+}
+
+// One seminal vesicle: an ellipsoid from `m` to `l` (long axis), flattened antero-posteriorly,
+// its middle sagging posteriorly by `bend`. The frame (long, anterior, width) is right-handed, so
+// the sphere's outward faces stay outward.
+TriMesh seminal_vesicle(const SeminalVesicleParams& p, const Vec3& m, const Vec3& l) {
+  const Vec3 c = 0.5 * (m + l), A = (l - m).normalized();
+  const Vec3 T = (Vec3::UnitY() - Vec3::UnitY().dot(A) * A).normalized();
+  const Vec3 W = A.cross(T);
+  const double a = 0.5 * (l - m).norm();
+  return map_sphere(icosphere(p.sphere_levels), [&](const Vec3& u) {
+    return Vec3(c + a * u.x() * A + (p.half_thickness * u.y() - p.bend * (1.0 - u.x() * u.x())) * T + p.half_width * u.z() * W);
+  });
+}
+
+TriMesh make_seminal_vesicles(const SeminalVesicleParams& p) {
+  const Vec3 mirror(-1.0, 1.0, 1.0);
+  TriMesh m = seminal_vesicle(p, p.medial_end, p.lateral_end);
+  append(m, seminal_vesicle(p, p.medial_end.cwiseProduct(mirror), p.lateral_end.cwiseProduct(mirror)));
+  return m;
+}
+
+// Pubic bone for the 3D view: the symphysis (both pubic bodies, a rounded block tilted with its
+// upper end anterior), superior rami to the acetabula, ischial rami from the arch's ends up to them.
+TriMesh make_pubic_bone(const PubicBoneParams& p, const PubicArchParams& arch) {
+  const double th = -p.symphysis_tilt_deg * std::numbers::pi / 180.0;
+  const double c = std::cos(th), s = std::sin(th);
+  auto boxy = [](double v) { return std::copysign(std::pow(std::abs(v), 0.75), v); };
+  TriMesh m = map_sphere(icosphere(2), [&](const Vec3& u) {
+    const Vec3 q(p.symphysis_half.x() * boxy(u.x()), p.symphysis_half.y() * boxy(u.y()), p.symphysis_half.z() * boxy(u.z()));
+    return Vec3(p.symphysis_centre + Vec3(q.x(), c * q.y() - s * q.z(), s * q.y() + c * q.z()));
+  });
+  const int cap = std::max(2, static_cast<int>(std::lround(0.5 * std::numbers::pi * p.ramus_radius / p.step)));
+  for (const double side : {1.0, -1.0}) {
+    const Vec3 k(side, 1.0, 1.0);
+    const Vec3 top = (p.symphysis_centre + Vec3(0.7 * p.symphysis_half.x(), 0.0, 0.6 * p.symphysis_half.z())).cwiseProduct(k);
+    const Vec3 acetabulum = p.superior_ramus_end.cwiseProduct(k);
+    const Vec3 mid = 0.5 * (top + acetabulum) + Vec3(0.0, 4.0e-3, -4.0e-3);
+    append(m, swept_tube(resample_polyline({top, mid, acetabulum}, p.step), p.ramus_radius, p.ring, cap));
+    // the arch's end (s = +-1) up along the ischium to the acetabulum
+    const Vec3 arch_end = Vec3(arch.half_span, arch.y_top - arch.drop_y, arch.z_top - arch.drop_z).cwiseProduct(k);
+    const Vec3 ischium = Vec3(p.superior_ramus_end.x() + 2.0e-3, arch.y_top - arch.drop_y - 4.0e-3, 0.5 * (arch.z_top - arch.drop_z + p.superior_ramus_end.z())).cwiseProduct(k);
+    append(m, swept_tube(resample_polyline({arch_end, ischium, acetabulum}, p.step), p.ramus_radius, p.ring, cap));
+  }
+  return m;
+}
+
 }  // namespace
 
 Vec3 prostate_surface_point(const ProstateParams& p, const Vec3& u) {
@@ -102,6 +153,10 @@ Anatomy generate_anatomy(const AnatomyParams& P) {
   }
   A.pubic_arch = swept_tube(resample_polyline(arch, B.step), B.radius, B.ring,
                             std::max(2, static_cast<int>(std::lround(0.5 * std::numbers::pi * B.radius / B.step))));
+
+  // not physical: seminal vesicles and the pubic bone as drawn
+  A.seminal_vesicles = make_seminal_vesicles(P.seminal_vesicles);
+  A.pubic_bone = make_pubic_bone(P.pubic_bone, B);
 
   // fat block
   A.fat = grid_box(P.fat_min, P.fat_max, P.fat_edge);

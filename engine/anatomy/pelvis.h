@@ -67,8 +67,39 @@ struct PubicArchParams {
   double step = 3.5e-3;
 };
 
+// Seminal vesicles (paired): flattened sacs on the posterior bladder wall, posterior-superior to
+// the prostate's base, diverging superolaterally from the base (a "V" seen from behind). Each is
+// an ellipsoid along the line medial end -> lateral end (x of the right one; the left one is its
+// mirror), flattened antero-posteriorly, bent slightly posteriorly around the bladder. Not physical
+// (no particles): the ultrasound images them and the 3D view draws them, both carried by the tissue
+// around them (engine/anatomy/display_meshes.h).
+struct SeminalVesicleParams {
+  Vec3 medial_end = Vec3(2.5e-3, -12.0e-3, 19.5e-3);   // right vesicle, near the base midline [m]
+  Vec3 lateral_end = Vec3(30.0e-3, -18.5e-3, 36.0e-3); // right vesicle, superolateral tip [m]
+  double half_width = 7.0e-3;        // across the long axis, in the coronal plane [m]
+  double half_thickness = 3.5e-3;    // antero-posterior [m]
+  double bend = 2.0e-3;              // posterior sag of the middle [m]
+  int sphere_levels = 2;             // 162 vertices each
+};
+
+// The pubic bone as the 3D view draws it (not physical: the physics keeps the pubic arch tube, the
+// part needles strike): the symphysis with both pubic bodies above the arch's top, the superior
+// rami running laterally and posteriorly towards the acetabula, and the ischial rami closing each
+// obturator foramen down to the arch's ends.
+struct PubicBoneParams {
+  Vec3 symphysis_centre = Vec3(0.0, 29.0e-3, -6.0e-3);  // [m]
+  Vec3 symphysis_half = Vec3(20.0e-3, 7.0e-3, 19.0e-3); // pubic bodies: lateral, AP, height [m]
+  double symphysis_tilt_deg = 20.0;  // its upper end anterior [deg]
+  Vec3 superior_ramus_end = Vec3(52.0e-3, 4.0e-3, 22.0e-3);  // right side, at the acetabulum [m]
+  double ramus_radius = 6.0e-3;      // [m]
+  int ring = 12;
+  double step = 4.0e-3;
+};
+
 struct AnatomyParams {
   ProstateParams prostate;
+  SeminalVesicleParams seminal_vesicles;
+  PubicBoneParams pubic_bone;
   BladderParams bladder;
   RectumParams rectum;
   PubicArchParams pubic_arch;
@@ -112,6 +143,9 @@ struct Landmark {
 
 struct Anatomy {
   TriMesh prostate, bladder, rectum, fat, pubic_arch;   // closed outward surfaces [m]
+  // not physical (drawn and imaged only): both vesicles (two closed surfaces) and the pubic bone
+  // (closed parts that overlap: drawn, not filled)
+  TriMesh seminal_vesicles, pubic_bone;
   std::vector<Vec3> urethra;         // prostatic urethra, bladder neck -> apex, inside the prostate [m]
   std::vector<Vec3> rectum_axis;     // centre line of the rectum tube, inferior -> superior [m]
   std::vector<Calcification> calcifications;  // in the prostate, on the surgical capsule [m]

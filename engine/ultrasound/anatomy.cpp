@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <numeric>
 #include <sstream>
 
@@ -25,6 +26,82 @@ double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
   const double l2 = ab.squaredNorm();
   const double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
   return (p - (a + t * ab)).norm();
+}
+
+// Loop subdivision of a closed triangle surface, `levels` times (Loop 1987): each edge gets a new
+// vertex 3/8 (a + b) + 1/8 (c + d) (c, d opposite it), each old vertex moves to
+// (1 - n beta) v + beta sum(neighbours), beta = 3/16 (n = 3) or 3/(8n); each face becomes four.
+void loop_subdivide(std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f, int levels) {
+  for (int l = 0; l < levels; ++l) {
+    const int nv = static_cast<int>(v.size());
+    std::map<std::pair<int, int>, std::array<int, 3>> edges;  // (a < b) -> new vertex, opposite vertices c, d
+    for (const auto& t : f)
+      for (int k = 0; k < 3; ++k) {
+        const int a = t[k], b = t[(k + 1) % 3], c = t[(k + 2) % 3];
+        auto [it, fresh] = edges.try_emplace(std::minmax(a, b), std::array<int, 3>{-1, c, -1});
+        if (!fresh) it->second[2] = c;
+      }
+    std::vector<std::vector<int>> nbr(nv);
+    std::vector<Vec3> out(v);
+    for (auto& [e, d] : edges) {
+      nbr[e.first].push_back(e.second);
+      nbr[e.second].push_back(e.first);
+      d[0] = static_cast<int>(out.size());
+      out.push_back(d[2] >= 0 ? Vec3(0.375 * (v[e.first] + v[e.second]) + 0.125 * (v[d[1]] + v[d[2]]))
+                              : Vec3(0.5 * (v[e.first] + v[e.second])));
+    }
+    for (int i = 0; i < nv; ++i) {
+      const double n = static_cast<double>(nbr[i].size());
+      if (n < 3) continue;
+      const double beta = n == 3 ? 3.0 / 16.0 : 3.0 / (8.0 * n);
+      Vec3 s = Vec3::Zero();
+      for (int j : nbr[i]) s += v[j];
+      out[i] = (1.0 - n * beta) * v[i] + beta * s;
+    }
+    std::vector<std::array<int, 3>> g;
+    g.reserve(4 * f.size());
+    for (const auto& t : f) {
+      const int ab = edges[std::minmax(t[0], t[1])][0], bc = edges[std::minmax(t[1], t[2])][0], ca = edges[std::minmax(t[2], t[0])][0];
+      g.push_back({t[0], ab, ca});
+      g.push_back({t[1], bc, ab});
+      g.push_back({t[2], ca, bc});
+      g.push_back({ab, bc, ca});
+    }
+    v = std::move(out);
+    f = std::move(g);
+  }
+}
+
+// Appends the vertices `v` (rest positions) as carried vertices of `a`, each carried by its 4
+// nearest particles among `carriers` (inverse-distance weights, offset to the vertex); returns the
+// index the first one has in a component's faces.
+int add_carried(UltrasoundAnatomy& a, const std::vector<Vec3>& rest, const std::vector<Vec3>& v, const std::vector<int>& carriers) {
+  const int base = static_cast<int>(rest.size() + a.carried_particles.size());
+  for (const Vec3& q : v) {
+    std::array<std::pair<double, int>, 4> best;
+    best.fill({1e300, carriers.empty() ? 0 : carriers.front()});
+    for (int p : carriers) {
+      const double d2 = (rest[p] - q).squaredNorm();
+      if (d2 < best[3].first) {
+        best[3] = {d2, p};
+        std::sort(best.begin(), best.end());
+      }
+    }
+    std::array<int, 4> ids;
+    std::array<float, 4> w;
+    double ws = 0.0;
+    for (int k = 0; k < 4; ++k) ws += 1.0 / (std::sqrt(best[k].first) + 1e-4);
+    Vec3 centre = Vec3::Zero();
+    for (int k = 0; k < 4; ++k) {
+      ids[k] = best[k].second;
+      w[k] = static_cast<float>(1.0 / (std::sqrt(best[k].first) + 1e-4) / ws);
+      centre += static_cast<double>(w[k]) * rest[ids[k]];
+    }
+    a.carried_particles.push_back(ids);
+    a.carried_weights.push_back(w);
+    a.carried_offsets.push_back(q - centre);
+  }
+  return base;
 }
 
 }  // namespace
@@ -87,8 +164,40 @@ UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt) {
     u.spacing = mc.spacing;
     u.faces = m.surfaces[mc.surface].faces;
     volume.push_back(enclosed_volume(m.rest_pos, u.faces));
+    if ((u.tissue == Tissue::Bladder || u.tissue == Tissue::Bone) && opt.smooth_subdivisions > 0) {
+      // smooth surface: the particle triangles subdivided at rest, carried by the component's particles
+      std::vector<int> local(m.particle_count(), -1), carriers;
+      std::vector<Vec3> v;
+      std::vector<std::array<int, 3>> f;
+      for (const auto& t : u.faces) {
+        std::array<int, 3> g;
+        for (int k = 0; k < 3; ++k) {
+          if (local[t[k]] < 0) local[t[k]] = static_cast<int>(v.size()), v.push_back(m.rest_pos[t[k]]), carriers.push_back(t[k]);
+          g[k] = local[t[k]];
+        }
+        f.push_back(g);
+      }
+      loop_subdivide(v, f, opt.smooth_subdivisions);
+      const int base = add_carried(a, m.rest_pos, v, carriers);
+      u.faces.clear();
+      for (const auto& t : f) u.faces.push_back({base + t[0], base + t[1], base + t[2]});
+    }
     a.component_index[c] = static_cast<int>(a.components.size());
     if (u.tissue == Tissue::Prostate && a.prostate < 0) a.prostate = static_cast<int>(a.components.size());
+    a.components.push_back(std::move(u));
+  }
+  for (const anatomy::DisplayMesh& d : opt.display_meshes) {
+    if (d.kind != anatomy::DisplayMesh::SeminalVesicle || a.components.size() >= 32 || d.mesh.faces.empty()) continue;
+    UsComponent u;
+    u.name = d.name;
+    u.tissue = Tissue::SeminalVesicle;
+    u.spacing = 0.0;
+    const int base = static_cast<int>(m.rest_pos.size() + a.carried_particles.size());
+    for (const auto& f : d.mesh.faces) u.faces.push_back({base + f[0], base + f[1], base + f[2]});
+    a.carried_particles.insert(a.carried_particles.end(), d.carriers.begin(), d.carriers.end());
+    a.carried_weights.insert(a.carried_weights.end(), d.weights.begin(), d.weights.end());
+    a.carried_offsets.insert(a.carried_offsets.end(), d.offsets.begin(), d.offsets.end());
+    volume.push_back(std::abs(signed_volume(d.mesh)));
     a.components.push_back(std::move(u));
   }
   std::vector<int> order(a.components.size());

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/anatomy/display_meshes.h"
 #include "engine/model/model.h"
 #include "engine/ultrasound/scene.h"
 
@@ -22,6 +23,15 @@ struct AnatomyOptions {
   // prostatic calcifications in rest space: centre [m] and radius [m] (optional, per case)
   std::vector<std::pair<Vec3, double>> calcifications;
   double voxel = 1.0e-3;           // prostate echo volume voxel [m]
+  // The bladder and the bones are imaged through smooth surfaces: their particle triangles (7-8 mm in
+  // the scenes) Loop-subdivided this many times at rest (2: ~2 mm edges), each new vertex carried by
+  // its 4 nearest particles of the component. A cut through the coarse triangles is a polygon with
+  // straight walls (the pubic arch's 7 mm tube a V); 0: image the particle triangles themselves.
+  int smooth_subdivisions = 2;
+  // shapes imaged but not simulated (engine/anatomy/display_meshes.h): each seminal vesicle becomes
+  // a component of tissue SeminalVesicle over carried vertices; the pubic bone as drawn is not
+  // imaged (its parts overlap; the physics' pubic arch is)
+  std::vector<anatomy::DisplayMesh> display_meshes;
 };
 
 // By role (Component::role): prostate -> Prostate, bladder -> Bladder, rectum -> Rectum,

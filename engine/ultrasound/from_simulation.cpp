@@ -136,6 +136,7 @@ UltrasoundAnatomy anatomy_for_scenario(const ScenarioSpec& spec, const Model& mo
     if (std::filesystem::exists(k) && m.rotate_deg.isZero() && m.scale.isOnes())
       opt.calcifications = read_calcifications_csv(k.string(), m.unit_scale, m.translate);
   }
+  opt.display_meshes = anatomy::display_meshes_for_scenario(spec, model);
   return build_anatomy(model, opt);
 }
 

@@ -48,7 +48,8 @@ void scene_from_snapshot(const Snapshot& snapshot, const ProbeView& probe, Ultra
 
 // The anatomy of a compiled scenario, with the Model's urethra line (Model::urethra) and the
 // calcifications from calcifications.csv beside the mesh file of the component whose role is
-// prostate when it exists (the default anatomy, assets/anatomy/; a case without the file has none).
+// prostate when it exists (the default anatomy, assets/anatomy/; a case without the file has none),
+// and the seminal vesicles of seminal_vesicles.obj beside it (engine/anatomy/display_meshes.h).
 UltrasoundAnatomy anatomy_for_scenario(const ScenarioSpec& spec, const Model& model);
 
 }  // namespace ps::us

@@ -326,9 +326,11 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
   rest_.resize(3 * an_.rest.size());
   for (size_t p = 0; p < an_.rest.size(); ++p)
     for (int d = 0; d < 3; ++d) rest_[3 * p + d] = static_cast<float>(an_.rest[p][d]);
-  ps_.assign(an_.rest.size(), 0.0f);
-  pt_.assign(an_.rest.size(), 0.0f);
-  pe_.assign(an_.rest.size(), 0.0f);
+  const size_t nvert = an_.rest.size() + an_.carried_particles.size();
+  ps_.assign(nvert, 0.0f);
+  pt_.assign(nvert, 0.0f);
+  pe_.assign(nvert, 0.0f);
+  xc_.assign(3 * an_.carried_particles.size(), 0.0f);
   size_t faces = 0;
   for (const auto& c : an_.components) faces += c.faces.size();
   segs_.reserve(faces);
@@ -454,8 +456,20 @@ const UsImage& PlaneImager::render(const UltrasoundScene& sc) {
   const float Rr[3] = {float(f.right.x()), float(f.right.y()), float(f.right.z())};
   const float Ru[3] = {float(f.up.x()), float(f.up.y()), float(f.up.z())};
   const float Rn[3] = {float(f.normal.x()), float(f.normal.y()), float(f.normal.z())};
-  for (int p = 0; p < sc.particle_count; ++p) {
-    const float d0 = sc.x[3 * p] - O[0], d1 = sc.x[3 * p + 1] - O[1], d2 = sc.x[3 * p + 2] - O[2];
+  // carried vertices (seminal vesicles) from the particles that carry them
+  for (size_t v = 0; v < an_.carried_particles.size(); ++v) {
+    float q[3] = {float(an_.carried_offsets[v].x()), float(an_.carried_offsets[v].y()), float(an_.carried_offsets[v].z())};
+    for (int k = 0; k < 4; ++k) {
+      const float* xp = sc.x + 3 * static_cast<size_t>(an_.carried_particles[v][k]);
+      const float w = an_.carried_weights[v][k];
+      q[0] += w * xp[0], q[1] += w * xp[1], q[2] += w * xp[2];
+    }
+    for (int d = 0; d < 3; ++d) xc_[3 * v + d] = q[d];
+  }
+  const int nvert = sc.particle_count + static_cast<int>(an_.carried_particles.size());
+  for (int p = 0; p < nvert; ++p) {
+    const float* xp = vertex(sc, p);
+    const float d0 = xp[0] - O[0], d1 = xp[1] - O[1], d2 = xp[2] - O[2];
     ps_[p] = d0 * Rr[0] + d1 * Rr[1] + d2 * Rr[2];
     pt_[p] = d0 * Ru[0] + d1 * Ru[1] + d2 * Ru[2];
     pe_[p] = d0 * Rn[0] + d1 * Rn[1] + d2 * Rn[2];
@@ -478,7 +492,6 @@ const UsImage& PlaneImager::render(const UltrasoundScene& sc) {
 
 void PlaneImager::cut_surfaces(const UltrasoundScene& sc, const PlaneFrame& f) {
   segs_.clear();
-  const float* x = sc.x;
   for (int c = 0; c < static_cast<int>(an_.components.size()); ++c) {
     for (const auto& fc : an_.components[c].faces) {
       const int v[3] = {fc[0], fc[1], fc[2]};
@@ -498,9 +511,10 @@ void PlaneImager::cut_surfaces(const UltrasoundScene& sc, const PlaneFrame& f) {
       if (n != 2 || !std::isfinite(pts[0][0] + pts[0][1] + pts[1][0] + pts[1][1])) continue;
       // outward face normal from the current positions, in plane coordinates
       float a1[3], a2[3];
+      const float *x0 = vertex(sc, v[0]), *x1 = vertex(sc, v[1]), *x2 = vertex(sc, v[2]);
       for (int d = 0; d < 3; ++d) {
-        a1[d] = x[3 * v[1] + d] - x[3 * v[0] + d];
-        a2[d] = x[3 * v[2] + d] - x[3 * v[0] + d];
+        a1[d] = x1[d] - x0[d];
+        a2[d] = x2[d] - x0[d];
       }
       const float nx = a1[1] * a2[2] - a1[2] * a2[1], ny = a1[2] * a2[0] - a1[0] * a2[2], nz = a1[0] * a2[1] - a1[1] * a2[0];
       const float nl = std::sqrt(nx * nx + ny * ny + nz * nz);

@@ -96,6 +96,11 @@ class PlaneImager {
     int comp;
   };
   void cut_surfaces(const UltrasoundScene& sc, const PlaneFrame& f);
+  // current position of surface vertex v (a particle, or a carried vertex after them)
+  const float* vertex(const UltrasoundScene& sc, int v) const {
+    const int n = sc.particle_count;
+    return v < n ? sc.x + 3 * static_cast<size_t>(v) : &xc_[3 * static_cast<size_t>(v - n)];
+  }
   void fill_labels();
   void wall_bands();
   void displacement_fields(const UltrasoundScene& sc, const PlaneFrame& f);
@@ -154,7 +159,8 @@ class PlaneImager {
   float lattice_ = 1e-4f;             // speckle lattice step [m]
   float stretch_ = 0.0f;              // elevation stretch of the scatterer field: L / L_elev - 1
   // per frame
-  std::vector<float> ps_, pt_, pe_;   // [particles] plane coordinates [m]
+  std::vector<float> ps_, pt_, pe_;   // [particles + carried vertices] plane coordinates [m]
+  std::vector<float> xc_;             // [3 * carried vertices] their current positions [m]
   std::vector<float> rest_;           // [3 * particles] rest positions (float) [m]
   std::vector<Seg> segs_;
   std::vector<uint32_t> mask_;

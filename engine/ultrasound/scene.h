@@ -25,6 +25,7 @@ enum class Tissue : uint8_t {
   Rectum,     // membrane: its inside is the lumen (water-filled balloon around the probe: anechoic)
   Bone,       // bright surface, total acoustic shadow
   Gas,        // bright surface with reverberation, total shadow (e.g. rectal gas)
+  SeminalVesicle,  // fluid-filled convoluted sacs: hypoechoic, mottled, little attenuation
   Soft,       // any other soft tissue: isoechoic speckle
 };
 
@@ -43,9 +44,10 @@ const TissueAcoustics& acoustics(Tissue t);
 struct UsComponent {
   std::string name;
   Tissue tissue = Tissue::Soft;
-  int first_particle = 0, particle_count = 0;
+  int first_particle = 0, particle_count = 0;        // none for a carried shape (seminal vesicle)
   double spacing = 0.0;                              // particle spacing h [m]
-  std::vector<std::array<int, 3>> faces;             // closed outward surface, particle indices
+  // closed outward surface: particle indices, or rest.size() + v for carried vertex v
+  std::vector<std::array<int, 3>> faces;
   int priority = 0;                                  // 0 = drawn over all others (smallest volume)
 };
 
@@ -80,6 +82,12 @@ struct UltrasoundAnatomy {
   double urethra_radius = 1.2e-3;        // hypoechoic (collapsed) lumen radius [m]
   std::vector<std::pair<Vec3, double>> calcifications;  // rest-space centre and radius [m] (in the echo volume)
   std::vector<UsLesion> lesions;         // fused MRI contours (overlays only, not echo)
+  // Vertices of shapes that are imaged but not simulated (the seminal vesicles,
+  // engine/anatomy/display_meshes.h), carried by the tissue: vertex v (index rest.size() + v in
+  // a component's faces) lies at sum_k weights[v][k] x[particles[v][k]] + offsets[v].
+  std::vector<std::array<int, 4>> carried_particles;
+  std::vector<std::array<float, 4>> carried_weights;
+  std::vector<Vec3> carried_offsets;     // [m]
 };
 
 // A thin rigid object the beam sees (needle shaft, seed): a segment with a radius.

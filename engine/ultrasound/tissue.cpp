@@ -8,7 +8,10 @@
 // water-filled balloon 0.0022, bone 15 (a 6 mm rib of it: > 100 dB round trip at 7.5 MHz, a full
 // shadow). Gas is given 80: its shadow comes from reflection (99.9 % of the intensity), not bulk
 // absorption, and must be total within ~1 mm. Speed of sound: 1540 m/s throughout (the scanner's
-// assumption, imager.h), so no refraction or range distortion is modelled.
+// assumption, imager.h), so no refraction or range distortion is modelled. Seminal vesicles: on TRUS
+// hypoechoic to the gland with a mottled inside (fluid in convoluted tubules between echogenic
+// folds; Halpern 2008) and a thin wall: echo 0.25 with a +-50 % texture, attenuation 0.3 (mostly
+// fluid, between urine and soft tissue).
 #include "engine/ultrasound/scene.h"
 
 namespace ps::us {
@@ -21,6 +24,7 @@ const TissueAcoustics& acoustics(Tissue t) {
   static const TissueAcoustics kRectum{0.0f, 0.0f, 0.0022f, 2.0f, 1.2f, 3.0e-3f, 0.35f};
   static const TissueAcoustics kBone{0.0f, 0.0f, 15.0f, 10.0f, 4.0f, 0.0f, 0.0f};
   static const TissueAcoustics kGas{0.0f, 0.0f, 80.0f, 12.0f, 6.0f, 0.0f, 0.0f};
+  static const TissueAcoustics kSeminalVesicle{0.25f, 0.5f, 0.3f, 0.6f, 0.4f, 0.0f, 0.0f};
   static const TissueAcoustics kSoft{1.0f, 0.0f, 0.6f, 0.8f, 0.4f, 0.0f, 0.0f};
   switch (t) {
     case Tissue::Prostate: return kProstate;
@@ -29,6 +33,7 @@ const TissueAcoustics& acoustics(Tissue t) {
     case Tissue::Rectum: return kRectum;
     case Tissue::Bone: return kBone;
     case Tissue::Gas: return kGas;
+    case Tissue::SeminalVesicle: return kSeminalVesicle;
     case Tissue::Soft: break;
   }
   return kSoft;

@@ -41,7 +41,7 @@ TEST(MakeAnatomy, ReproducesTheCommittedAssets) {
     ++files;
     EXPECT_TRUE(slurp(e.path()) == slurp(assets / e.path().filename())) << e.path().filename() << " differs from the committed asset";
   }
-  EXPECT_EQ(files, 8);   // five meshes, landmarks, the urethra line and the calcifications
+  EXPECT_EQ(files, 10);  // five organ meshes, the seminal vesicles and the pubic bone as drawn, landmarks, the urethra line and the calcifications
   fs::remove_all(out);
 }
 

@@ -48,7 +48,7 @@ struct Replay {
 };
 
 Image render_view(Replay& r, View view, int w, int h, bool displacement = false) {
-  Renderer rd(make_render_scene(*r.scene.model));
+  Renderer rd(make_render_scene(r.scene.spec, *r.scene.model));
   const Snapshot& s = r.run->snapshot();
   rd.update(s);
   OrbitCamera orbit;

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "engine/anatomy/anatomy_files.h"
+#include "engine/anatomy/display_meshes.h"
 #include "engine/mesh/mesh_check.h"
 #include "engine/mesh/mesh_import.h"
 #include "engine/mesh/mesh_query.h"
@@ -178,6 +179,69 @@ TEST(Pelvis, PubicArchBlocksNeedlesAimedAtTheAnteriorEdge) {
   EXPECT_EQ(first_hit(a, 15, 10), 1);    // antero-lateral edge: strikes the arch
   EXPECT_EQ(first_hit(a, -15, 10), 1);
   EXPECT_EQ(first_hit(a, 0, 14), 1);     // anterior edge at the midline
+}
+
+// Seminal vesicles: paired, posterior-superior to the base, diverging superolaterally, in the fat
+// between the bladder and the rectum without touching either (they are not simulated, so an
+// overlap would show as a vesicle inside an organ).
+TEST(Pelvis, SeminalVesiclesLiePosteriorSuperiorToTheBaseBetweenBladderAndRectum) {
+  const Anatomy& a = default_anatomy();
+  const std::vector<TriMesh> parts = connected_parts(a.seminal_vesicles);
+  ASSERT_EQ(parts.size(), 2u);
+  double base_z = -1.0;
+  for (const Vec3& v : a.prostate.vertices) base_z = std::max(base_z, v.z());
+  const MeshQuery fat(a.fat);
+  for (const TriMesh& sv : parts) {
+    EXPECT_TRUE(check_mesh(sv).valid_solid());
+    const double vol = signed_volume(sv) * 1e6;
+    Vec3 lo;
+    const Vec3 e = extent(sv, &lo) * 1e3;
+    Vec3 c = Vec3::Zero();
+    for (const Vec3& v : sv.vertices) c += v;
+    c /= static_cast<double>(sv.vertices.size());
+    std::printf("seminal vesicle %s: %.2f cm^3, extent %.1f x %.1f x %.1f mm, centroid (%.1f, %.1f, %.1f) mm\n", c.x() > 0 ? "right" : "left", vol,
+                e.x(), e.y(), e.z(), c.x() * 1e3, c.y() * 1e3, c.z() * 1e3);
+    EXPECT_GT(vol, 1.0);           // normal vesicles hold a few millilitres each
+    EXPECT_LT(vol, 8.0);
+    EXPECT_GT(c.z(), base_z);      // superior to the base ...
+    EXPECT_LT(c.y(), -5e-3);       // ... and posterior (behind the bladder)
+    EXPECT_GT(std::abs(c.x()), 10e-3);  // one on each side
+    EXPECT_LT(lo.z(), base_z + 3e-3);   // the medial end reaches down to the base
+    for (const auto& [name, organ] : {std::pair{"prostate", &a.prostate}, {"bladder", &a.bladder}, {"rectum", &a.rectum}, {"pubic_arch", &a.pubic_arch}}) {
+      const auto [d, inside] = gap(sv, *organ);
+      EXPECT_FALSE(inside) << "seminal vesicle in " << name;
+      EXPECT_GE(d, 1.0e-3) << "seminal vesicle to " << name;
+      std::printf("  gap to %s %.1f mm\n", name, d * 1e3);
+    }
+    for (const Vec3& v : sv.vertices) ASSERT_TRUE(fat.inside(v));
+  }
+  // right and left mirror each other
+  Vec3 cr = Vec3::Zero(), cl = Vec3::Zero();
+  for (const Vec3& v : parts[0].vertices) cr += v / static_cast<double>(parts[0].vertices.size());
+  for (const Vec3& v : parts[1].vertices) cl += v / static_cast<double>(parts[1].vertices.size());
+  EXPECT_NEAR(cr.x(), -cl.x(), 1e-9);
+  EXPECT_NEAR(cr.z(), cl.z(), 1e-9);
+}
+
+// The pubic bone as drawn: closed parts around the arch (the symphysis over the arch's top, the
+// rami out to the sides), clear of the organs it must not cut in the 3D view.
+TEST(Pelvis, PubicBoneAsDrawnSurroundsTheArchAndClearsTheOrgans) {
+  const Anatomy& a = default_anatomy();
+  const std::vector<TriMesh> parts = connected_parts(a.pubic_bone);
+  EXPECT_EQ(parts.size(), 5u);  // symphysis, two superior rami, two ischial rami
+  for (const TriMesh& p : parts) EXPECT_TRUE(check_mesh(p).valid_solid());
+  const PubicArchParams& B = AnatomyParams{}.pubic_arch;
+  const MeshQuery bone(parts[0]);
+  EXPECT_LT(bone.distance(Vec3(0.0, B.y_top, B.z_top)), B.radius + 2e-3) << "the symphysis sits on the arch's top";
+  for (const TriMesh& p : parts)
+    for (const auto& [name, organ] : {std::pair{"prostate", &a.prostate}, {"bladder", &a.bladder}, {"rectum", &a.rectum}}) {
+      const auto [d, inside] = gap(p, *organ);
+      EXPECT_FALSE(inside) << "pubic bone in " << name;
+      EXPECT_GE(d, 2.0e-3) << "pubic bone to " << name;
+    }
+  const Vec3 e = extent(a.pubic_bone) * 1e3;
+  std::printf("pubic bone as drawn: %zu parts, extent %.1f x %.1f x %.1f mm\n", parts.size(), e.x(), e.y(), e.z());
+  EXPECT_GT(e.x(), 100.0);  // from acetabulum to acetabulum
 }
 
 TEST(Pelvis, FilesAreDeterministicAndSmall) {

@@ -32,9 +32,21 @@ double ray_triangle(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, 
   return s > 0 ? s : -1;
 }
 
-// all hits of the ray with a component's surface at positions x, sorted
-std::vector<double> ray_hits(const us::UsComponent& c, const std::vector<float>& x, const Vec3& o, const Vec3& d) {
-  auto P = [&](int i) { return Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]); };
+// all hits of the ray with a component's surface at positions x, sorted (vertices past the particles
+// are the anatomy's carried vertices: the smoothed bladder and bone, the seminal vesicles)
+std::vector<double> ray_hits(const us::UltrasoundAnatomy& an, const us::UsComponent& c, const std::vector<float>& x, const Vec3& o,
+                             const Vec3& d) {
+  const int n = static_cast<int>(x.size() / 3);
+  auto P = [&](int i) {
+    if (i < n) return Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    const size_t v = static_cast<size_t>(i - n);
+    Vec3 q = an.carried_offsets[v];
+    for (int k = 0; k < 4; ++k) {
+      const int p = an.carried_particles[v][k];
+      q += static_cast<double>(an.carried_weights[v][k]) * Vec3(x[3 * p], x[3 * p + 1], x[3 * p + 2]);
+    }
+    return q;
+  };
   std::vector<double> h;
   for (const auto& f : c.faces) {
     const double s = ray_triangle(o, d, P(f[0]), P(f[1]), P(f[2]));
@@ -105,14 +117,14 @@ TEST(UltrasoundImager, ProstateBoundaryLiesOnTheCutOfTheDeformedSurface) {
           for (int k = 0; k < 24; ++k) {
             const double a = 2 * 3.141592653589793 * k / 24;
             const Vec3 d = std::cos(a) * f.right + std::sin(a) * f.up;
-            const auto hits = ray_hits(gland, x, c, d);
+            const auto hits = ray_hits(S.anatomy, gland, x, c, d);
             if (hits.size() != 1) continue;  // centre outside the section, or a re-entrant cut
             const double r = hits[0];
             // skip where another organ's surface is within 3.5 mm of the capsule on this ray
             bool crowded = false;
             for (size_t o = 0; o < S.anatomy.components.size() && !crowded; ++o) {
               if (static_cast<int>(o) == S.anatomy.prostate || S.anatomy.components[o].tissue == us::Tissue::Fat) continue;
-              for (double hh : ray_hits(S.anatomy.components[o], x, c, d)) crowded = crowded || std::abs(hh - r) < 3.5e-3;
+              for (double hh : ray_hits(S.anatomy, S.anatomy.components[o], x, c, d)) crowded = crowded || std::abs(hh - r) < 3.5e-3;
             }
             if (crowded) continue;
             // the capsule's bright line: brightest point along the ray within +-3 mm of the true cut,

@@ -17,7 +17,11 @@ struct UsBiopsyScene {
   ScenarioSpec spec;
   std::shared_ptr<const Model> model;
   us::UltrasoundAnatomy anatomy;
-  us::ProbeView probe;             // the scenario's initial probe pose
+  // The probe at the scenario's initial pose but 40 mm in (tip-hemisphere centre at z = +8 mm,
+  // mid-gland to base), where the transverse plane cuts the gland: the pose these tests and their
+  // figures (docs/ultrasound.md) are taken at. The scenario starts further in, its sagittal plane
+  // showing base to apex (anatomy_planes_test.cpp).
+  us::ProbeView probe;
   us::UltrasoundSettings settings;
 };
 
@@ -28,7 +32,9 @@ inline const UsBiopsyScene& us_biopsy_scene() {
     b.model = compile_scenario(b.spec);
     b.anatomy = us::anatomy_for_scenario(b.spec, *b.model);
     const RectalFrame rf = rectal_frame(*b.spec.probe);
-    b.probe = us::probe_view(probe_frame(*b.spec.probe, rf, b.spec.probe->pose), b.spec.probe->radius);
+    ProbePose pose = b.spec.probe->pose;
+    pose.insertion = 0.040;
+    b.probe = us::probe_view(probe_frame(*b.spec.probe, rf, pose), b.spec.probe->radius);
     b.settings = us::settings_for_probe(*b.spec.probe);
     return b;
   }();
