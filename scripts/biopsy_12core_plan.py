@@ -48,7 +48,8 @@ HEADER = """\
 # (the bladder neck beyond). Written by scripts/biopsy_12core_plan.py (the site centres from a
 # session's metrics.json). Release build, docs/needle.md ("The 12-core script"):
 #   prostatesim replay config/biopsy.yaml --script config/scripts/biopsy_12core.yaml --report out/12core
-# 12 cores at the 12 distinct sites, no structure hit, mean notch-to-site error 0.66 mm, score 97.4.
+# 12 cores at the 12 distinct sites, mean notch-to-site error 0.66 mm, no structure hit; six throws
+# end out of the gland through its capsule (1 point each, docs/metrics.md): score 91.4.
 """
 
 ORDER = ["right base lateral", "right mid lateral", "right apex lateral", "right apex medial", "right mid medial",
