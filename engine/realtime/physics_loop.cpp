@@ -151,9 +151,9 @@ LoopTiming PhysicsLoop::timing() const {
 void PhysicsLoop::publish() {
   const auto t0 = Clock::now();
   // The snapshot carries the events the reader may not have taken, then the new ones. Carrying
-  // only the events of the buffer handed back (as before) lost their order when the reader
-  // skipped two snapshots in a row: the skipped snapshot's events sat in the middle buffer while
-  // the next one went out without them, and reached the reader after it.
+  // only the events of the buffer handed back would lose their order when the reader skips two
+  // snapshots in a row: the skipped snapshot's events would sit in the middle buffer while the
+  // next one went out without them, and reach the reader after it.
   Snapshot& b = snaps_.back();
   const size_t carried = unread_.size();
   b.events.assign(unread_.begin(), unread_.end());  // capacity reserved: no allocation

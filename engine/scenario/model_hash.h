@@ -3,7 +3,7 @@
 // what the step reads: time settings, gravity, particles (rest positions, masses, stiffnesses,
 // damping, components, tags), neighbourhoods and their weights, surfaces and constraints; the
 // roles of components and tags only where `role:` differs from the name's default (a scene that
-// names its organs hashes as before). The urethra line (Model::urethra) is left out: the step
+// names its organs hashes the same with or without `role:`). The urethra line (Model::urethra) is left out: the step
 // does not read it.
 //
 // Each material model hashes its own elements (MaterialModelDesc::hash, engine/scenario/
