@@ -27,6 +27,7 @@ struct NeedleLive {
   int punctures = 0;
   uint32_t hits = 0;               // structure bits
   int entry = -1;                  // first component punctured: the route, not a hit
+  int entry_punctures = 0;         // of the route this pass: a second one is a hit (session_metrics.cpp)
   TipTargetHold tip_target;        // app/gui/tip_target.h
 };
 
@@ -106,6 +107,9 @@ void metrics_panel(Session& s, const Snapshot& snap) {
     if (e.tool != sc.tools.index<NeedleTool>()) continue;
     const auto kind = static_cast<NeedleEventKind>(e.kind);
     const std::string t = e.text.data();
+    if (kind == NeedleEventKind::Core)  // a needle in the guide goes through its route again on the next pass
+      for (NeedleLive& n : L.needles)
+        if (t.rfind(n.name + ": ", 0) == 0) n.entry_punctures = 0;
     if (kind == NeedleEventKind::Core && L.has_map) {  // "...: core at 21.7 mm, 0.00 N [right mid medial, lesion]"
       const size_t open = t.rfind('[');
       if (open != std::string::npos) {
@@ -131,7 +135,8 @@ void metrics_panel(Session& s, const Snapshot& snap) {
       if (kind == NeedleEventKind::Puncture) {
         ++n.punctures;
         if (n.entry < 0) n.entry = comp;
-        else if (comp >= 0) n.hits |= structure_of(m.components[static_cast<size_t>(comp)]);
+        const bool route = comp == n.entry && ++n.entry_punctures <= 1;
+        if (comp >= 0 && !route) n.hits |= structure_of(m.components[static_cast<size_t>(comp)]);
       }
       if (kind == NeedleEventKind::BoneHit) n.hits |= structure_of(m.components[static_cast<size_t>(std::max(comp, 0))]) | 8u;
       if (kind == NeedleEventKind::Urethra) n.hits |= 1u;
