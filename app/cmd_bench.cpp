@@ -16,6 +16,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -23,6 +26,7 @@
 #include <sstream>
 
 #include "app/commands.h"
+#include "app/frames/snapshot_dose.h"
 #include "app/output_paths.h"
 #include "app/plot/chart.h"
 #include "app/progress.h"
@@ -74,14 +78,75 @@ struct Realtime {
   int particles = 0, substeps = 0;
   std::vector<std::string> pipeline;
   bool faulted = false;
+  int dose_updates = 0;     // with_dose: dose updates the worker finished during the run
+  double dose_ms_median = 0.0, dose_ms_max = 0.0;  // their median and largest wall time [ms]
+};
+
+// The trainee window's dose worker, as the benchmark runs it (app/gui/dose_worker.h does the
+// same with the window's snapshots): every kDoseEveryTicks the physics side hands over a
+// snapshot (a 60 Hz UI at a 500 Hz tick), and a thread of its own brings the dose up to date
+// from the newest one, so the physics pays only the copy and a core shared with the worker.
+class BenchDoseWorker {
+ public:
+  static constexpr int kDoseEveryTicks = 8;
+  explicit BenchDoseWorker(const Scene& sc) : dose_(sc), thread_([this] { run(); }) {}
+  ~BenchDoseWorker() {
+    {
+      std::lock_guard<std::mutex> g(mu_);
+      stop_ = true;
+    }
+    cv_.notify_one();
+    thread_.join();
+  }
+  void post(const Snapshot& snap) {
+    {
+      std::lock_guard<std::mutex> g(mu_);
+      next_ = snap;
+      fresh_ = true;
+    }
+    cv_.notify_one();
+  }
+  // finished updates and their wall times [ms]; call after the destructor's join or while idle
+  std::vector<double> times_ms() {
+    std::lock_guard<std::mutex> g(mu_);
+    return ms_;
+  }
+
+ private:
+  void run() {
+    Snapshot mine;
+    for (;;) {
+      {
+        std::unique_lock<std::mutex> lk(mu_);
+        cv_.wait(lk, [this] { return fresh_ || stop_; });
+        if (stop_) return;
+        std::swap(mine, next_);
+        fresh_ = false;
+      }
+      const auto t0 = Clock::now();
+      dose_.update(mine);
+      const double ms = since(t0) * 1e3;
+      std::lock_guard<std::mutex> g(mu_);
+      ms_.push_back(ms);
+    }
+  }
+  frames::SnapshotDose dose_;
+  std::mutex mu_;
+  std::condition_variable cv_;
+  Snapshot next_;
+  bool fresh_ = false, stop_ = false;
+  std::vector<double> ms_;
+  std::thread thread_;
 };
 
 // The scene driven by its trainee script (config/scripts/<scene>.yaml: the probe pushed onto the
 // gland, the needle advanced and fired or inserted) in lock-step, as fast as it goes, for the
 // script's whole length or `seconds` when shorter: the tick time of each tick, wall clock around
 // the tick (commands applied, physics, nothing else).
-Realtime realtime_of(const std::string& file, const std::string& script_file, double seconds) {
+Realtime realtime_of(const std::string& file, const std::string& script_file, double seconds, bool with_dose = false) {
   ScriptedRun sr(parse_scenario_file(file), script_file);
+  std::unique_ptr<BenchDoseWorker> dose;
+  if (with_dose) dose = std::make_unique<BenchDoseWorker>(sr.sc);
   const Model& m = *sr.sc.model;
   Realtime r;
   r.particles = m.particle_count();
@@ -98,12 +163,23 @@ Realtime realtime_of(const std::string& file, const std::string& script_file, do
     const int64_t c = thread_cpu_ns();
     const auto a = Clock::now();
     if (!sr.run.step()) { r.faulted = true; break; }
+    if (dose && k % BenchDoseWorker::kDoseEveryTicks == 0) dose->post(sr.run.snapshot());
     us.push_back(since(a) * 1e6);
     cpu_us.push_back((thread_cpu_ns() - c) * 1e-3);
     if (us.back() - cpu_us.back() > 0.1 * r.period_us) ++r.preempted_ticks;
   }
   r.ticks = static_cast<int64_t>(us.size());
   const double wall = since(t0);
+  if (dose) {
+    std::vector<double> ms = dose->times_ms();
+    dose.reset();
+    r.dose_updates = static_cast<int>(ms.size());
+    if (!ms.empty()) {
+      std::sort(ms.begin(), ms.end());
+      r.dose_ms_median = ms[ms.size() / 2];
+      r.dose_ms_max = ms.back();
+    }
+  }
   const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
   r.sim_s = sr.sc.sim->state().time;
   r.factor = r.sim_s / wall;
@@ -339,6 +415,17 @@ void add_bench_command(CLI::App& app, Runner& run) {
         j[std::string("simulated_s_") + scene] = r.sim_s;
         if (r.faulted) j[std::string("faulted_") + scene] = true;
       }
+      {  // brachytherapy with the dose worker the window runs beside it (issue 46)
+        progress.update(done, "brachytherapy real time, dose updates on");
+        const Realtime r = realtime_of(root + "/config/brachytherapy.yaml", root + "/config/scripts/brachytherapy.yaml", rt_seconds, true);
+        j["realtime_factor_brachytherapy_dose"] = r.factor;
+        j["tick_median_us_brachytherapy_dose"] = r.median_us;
+        j["tick_p99_us_brachytherapy_dose"] = r.p99_us;
+        j["dose_updates_brachytherapy_dose"] = r.dose_updates;
+        j["dose_update_ms_median_brachytherapy_dose"] = r.dose_ms_median;
+        j["dose_update_ms_max_brachytherapy_dose"] = r.dose_ms_max;
+        if (r.faulted) j["faulted_brachytherapy_dose"] = true;
+      }
       progress.update(done++, "cube 1331 substep");
       j["step_us_1300"] = step_us_cube(11, a->quick ? 200 : 1000);
 
@@ -430,6 +517,11 @@ void add_bench_command(CLI::App& app, Runner& run) {
                     j["tick_p99_cpu_us_" + scene].get<double>(), j["tick_period_us_" + scene].get<double>(),
                     static_cast<long long>(j["ticks_preempted_" + scene].get<int64_t>()),
                     static_cast<long long>(j["ticks_" + scene].get<int64_t>()));
+      std::printf("brachytherapy, dose updates on: realtime factor %.3g, tick median %.0f / p99 %.0f us wall; %d dose updates, "
+                  "median %.1f ms, max %.1f ms (worker thread)\n",
+                  j["realtime_factor_brachytherapy_dose"].get<double>(), j["tick_median_us_brachytherapy_dose"].get<double>(),
+                  j["tick_p99_us_brachytherapy_dose"].get<double>(), j["dose_updates_brachytherapy_dose"].get<int>(),
+                  j["dose_update_ms_median_brachytherapy_dose"].get<double>(), j["dose_update_ms_max_brachytherapy_dose"].get<double>());
       std::printf("step_us_1300 %.1f  particles_biopsy %d\n", j["step_us_1300"].get<double>(), j["particles_biopsy"].get<int>());
       std::printf("%-8s %8s %9s %14s %10s %s\n", "model", "h_mm", "substeps", "wall_s/sim_s", "err_rms_%", "");
       for (const auto& c : cs)
