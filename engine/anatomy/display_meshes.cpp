@@ -19,41 +19,47 @@ const char* units_of(double unit_scale) {
 }
 
 // Binds every vertex of `d.mesh` to its 4 nearest particles at rest among those for which `use(p)`
-// is true (inverse-distance weights, offset to the vertex).
+// is true (carry_vertex).
 template <class Use>
 void carry_by_particles(DisplayMesh& d, const Model& m, Use use) {
   d.carriers.clear();
   d.weights.clear();
   d.offsets.clear();
+  std::vector<int> candidates;
+  for (int p = 0; p < m.particle_count(); ++p)
+    if (use(p)) candidates.push_back(p);
   for (const Vec3& q : d.mesh.vertices) {
-    std::array<std::pair<double, int>, 4> best;
-    best.fill({1e300, 0});
-    for (int p = 0; p < m.particle_count(); ++p) {
-      if (!use(p)) continue;
-      const double d2 = (m.rest_pos[p] - q).squaredNorm();
-      if (d2 < best[3].first) {
-        best[3] = {d2, p};
-        std::sort(best.begin(), best.end());
-      }
-    }
-    std::array<int, 4> ids;
-    std::array<float, 4> w;
-    double ws = 0.0;
-    for (int k = 0; k < 4; ++k) ws += 1.0 / (std::sqrt(best[k].first) + 1e-4);
-    Vec3 centre = Vec3::Zero();
-    for (int k = 0; k < 4; ++k) {
-      ids[k] = best[k].second;
-      w[k] = static_cast<float>(1.0 / (std::sqrt(best[k].first) + 1e-4) / ws);
-    }
-    // offset against the float weights actually used, so that the rest pose is reproduced
-    for (int k = 0; k < 4; ++k) centre += static_cast<double>(w[k]) * m.rest_pos[ids[k]];
-    d.carriers.push_back(ids);
-    d.weights.push_back(w);
-    d.offsets.push_back(q - centre);
+    const CarriedVertex c = carry_vertex(q, m.rest_pos, candidates);
+    d.carriers.push_back(c.ids);
+    d.weights.push_back(c.weights);
+    d.offsets.push_back(c.offset);
   }
 }
 
 }  // namespace
+
+CarriedVertex carry_vertex(const Vec3& q, const std::vector<Vec3>& rest, const std::vector<int>& candidates) {
+  std::array<std::pair<double, int>, 4> best;
+  best.fill({1e300, candidates.empty() ? 0 : candidates.front()});
+  for (int p : candidates) {
+    const double d2 = (rest[p] - q).squaredNorm();
+    if (d2 < best[3].first) {
+      best[3] = {d2, p};
+      std::sort(best.begin(), best.end());
+    }
+  }
+  CarriedVertex c;
+  double ws = 0.0;
+  for (int k = 0; k < 4; ++k) ws += 1.0 / (std::sqrt(best[k].first) + 1e-4);
+  Vec3 centre = Vec3::Zero();
+  for (int k = 0; k < 4; ++k) {
+    c.ids[k] = best[k].second;
+    c.weights[k] = static_cast<float>(1.0 / (std::sqrt(best[k].first) + 1e-4) / ws);
+    centre += static_cast<double>(c.weights[k]) * rest[c.ids[k]];  // the float weights the views use
+  }
+  c.offset = q - centre;
+  return c;
+}
 
 std::vector<TriMesh> connected_parts(const TriMesh& mesh) {
   const int nv = static_cast<int>(mesh.vertices.size());

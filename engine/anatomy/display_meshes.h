@@ -18,6 +18,16 @@
 
 namespace ps::anatomy {
 
+// A vertex carried by the tissue: its 4 nearest particles at rest among `candidates` (searched in
+// the order given), inverse-distance weights (sum 1, in float as the views use them) and the
+// vertex's offset from their weighted mean, so that the rest pose is reproduced.
+struct CarriedVertex {
+  std::array<int, 4> ids{};
+  std::array<float, 4> weights{};
+  Vec3 offset = Vec3::Zero();  // [m]
+};
+CarriedVertex carry_vertex(const Vec3& q, const std::vector<Vec3>& rest, const std::vector<int>& candidates);
+
 struct DisplayMesh {
   enum Kind : uint8_t { SeminalVesicle, Bone };
   std::string name;                           // e.g. "seminal_vesicle_right", "pubic_bone"

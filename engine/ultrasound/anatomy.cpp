@@ -78,28 +78,10 @@ void loop_subdivide(std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f, in
 int add_carried(UltrasoundAnatomy& a, const std::vector<Vec3>& rest, const std::vector<Vec3>& v, const std::vector<int>& carriers) {
   const int base = static_cast<int>(rest.size() + a.carried_particles.size());
   for (const Vec3& q : v) {
-    std::array<std::pair<double, int>, 4> best;
-    best.fill({1e300, carriers.empty() ? 0 : carriers.front()});
-    for (int p : carriers) {
-      const double d2 = (rest[p] - q).squaredNorm();
-      if (d2 < best[3].first) {
-        best[3] = {d2, p};
-        std::sort(best.begin(), best.end());
-      }
-    }
-    std::array<int, 4> ids;
-    std::array<float, 4> w;
-    double ws = 0.0;
-    for (int k = 0; k < 4; ++k) ws += 1.0 / (std::sqrt(best[k].first) + 1e-4);
-    Vec3 centre = Vec3::Zero();
-    for (int k = 0; k < 4; ++k) {
-      ids[k] = best[k].second;
-      w[k] = static_cast<float>(1.0 / (std::sqrt(best[k].first) + 1e-4) / ws);
-      centre += static_cast<double>(w[k]) * rest[ids[k]];
-    }
-    a.carried_particles.push_back(ids);
-    a.carried_weights.push_back(w);
-    a.carried_offsets.push_back(q - centre);
+    const anatomy::CarriedVertex c = anatomy::carry_vertex(q, rest, carriers);
+    a.carried_particles.push_back(c.ids);
+    a.carried_weights.push_back(c.weights);
+    a.carried_offsets.push_back(c.offset);
   }
   return base;
 }

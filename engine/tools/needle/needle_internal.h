@@ -152,6 +152,24 @@ struct NeedleTool::Needle {
   uint64_t tumour_tags = 0;              // tag bits that count as tumour
 };
 
+// Where the axis T + t d crosses the triangle with corner A and edges e1 = B - A, e2 = C - A
+// (Moller-Trumbore): t is the crossing's axial position relative to T [m]. False when the axis runs
+// in the triangle's plane or passes outside it by more than `tol` in barycentric coordinates.
+inline bool axis_crosses_triangle(const Vec3& T, const Vec3& d, const Vec3& A, const Vec3& e1, const Vec3& e2, double tol,
+                                  double& t) {
+  const Vec3 pv = d.cross(e2);
+  const double det = e1.dot(pv);
+  if (std::abs(det) < 1e-30) return false;
+  const double inv = 1.0 / det;
+  const Vec3 tv = T - A;
+  const double u = tv.dot(pv) * inv;
+  const Vec3 qv = tv.cross(e1);
+  const double v = d.dot(qv) * inv;
+  if (u < -tol || v < -tol || u + v > 1.0 + tol) return false;
+  t = e2.dot(qv) * inv;
+  return true;
+}
+
 // Surfaces of the membrane components (puncture_n > 0) as faces incident to their particles.
 struct MembraneFaces {
   std::vector<std::array<int, 3>> faces;   // outward CCW particle triples

@@ -83,7 +83,8 @@ void NeedleTool::set_gland(int component) {
 // (outside: in the rectum or the probe's guide) to the tip: an entry face (normal against the
 // needle) counts +1, an exit face -1. The faces are those of the tube's gland particles: a face
 // the axis crosses has its corners within a tissue spacing of it, inside the tube's margin.
-// A crossing on an edge shared by two faces counts once (the same axial position). Once per tick:
+// A crossing counts once (the same axial position), whether a face is met from several of its
+// corners or the axis passes on an edge shared by two faces. Once per tick:
 // the GlandExit event and entered[gland] = 2 until the tip is back in, kGlandRearm deep.
 void NeedleTool::check_gland_exit(const Model& m, State& s) {
   const MembraneFaces& mf = *membranes_;
@@ -101,19 +102,10 @@ void NeedleTool::check_gland_exit(const Model& m, State& s) {
       for (int k = mf.start[q]; k < mf.start[q + 1]; ++k) {
         const int f = mf.list[k];
         const auto& fc = mf.faces[f];
-        if (q != std::min({fc[0], fc[1], fc[2]}) && nd.mark[std::min({fc[0], fc[1], fc[2]})]) continue;  // once per face
         const Vec3 &A = s.x[fc[0]], &B = s.x[fc[1]], &C = s.x[fc[2]];
         const Vec3 e1 = B - A, e2 = C - A;
-        const Vec3 pv = d.cross(e2);
-        const double det = e1.dot(pv);
-        if (std::abs(det) < 1e-30) continue;
-        const double inv = 1.0 / det;
-        const Vec3 tv = T - A;
-        const double u = tv.dot(pv) * inv;
-        const Vec3 qv = tv.cross(e1);
-        const double v = d.dot(qv) * inv;
-        if (u < 0.0 || v < 0.0 || u + v > 1.0) continue;
-        const double t = e2.dot(qv) * inv;  // the crossing's axial position relative to the tip [m]
+        double t = 0.0;  // the crossing's axial position relative to the tip [m]
+        if (!axis_crosses_triangle(T, d, A, e1, e2, 0.0, t)) continue;
         if (t > kGlandRearm || t < -shaft) continue;
         const bool entry = e1.cross(e2).dot(d) < 0.0;
         if (t > 0.0) {  // ahead of the tip: an exit face this near means the tip is at the capsule

@@ -116,18 +116,9 @@ void update_needle_zones(NeedleTool::Needle& nd, const Model& m, const State& s,
       const Vec3 &A = s.x[fc[0]], &B = s.x[fc[1]], &C = s.x[fc[2]];
       const Vec3 e1 = B - A, e2 = C - A;
       if (!sheet && !(e1.cross(e2).dot(d) < 0.0)) continue;  // exit face or edge-on
-      // axis T + t d through the triangle (Moller-Trumbore); t is the crossing's axial position
-      const Vec3 pv = d.cross(e2);
-      const double det = e1.dot(pv);
-      if (std::abs(det) < 1e-30) continue;
-      const double inv = 1.0 / det;
-      const Vec3 tv = T - A;
-      const double u = tv.dot(pv) * inv;
-      const Vec3 qv = tv.cross(e1);
-      const double v = d.dot(qv) * inv;
       constexpr double tol = 1e-9;  // shared edges: a crossing is never lost between two faces
-      if (u < -tol || v < -tol || u + v > 1.0 + tol) continue;
-      const double t = e2.dot(qv) * inv;
+      double t = 0.0;  // the crossing's axial position
+      if (!axis_crosses_triangle(T, d, A, e1, e2, tol, t)) continue;
       if (lumen_wall) {
         const bool torn = nd.face_breached[f] != 0;
         if (t < 0.0 && t > lumen_behind) { lumen_behind = t; behind_torn = torn; }
