@@ -111,35 +111,107 @@ void convolve_row(const float* in, float* out, int n, const float* k, int r, flo
   }
 }
 
-// Scan conversion and log compression of one run of pixels (compress()): the I/Q signal of the
-// grid (bilinear between beams and samples; interpolating the envelope instead filled the speckle's
-// nulls: envelope SNR 2.2 instead of 1.91) at S points of the pixel, point 0 its centre. The
-// envelope is the centre's |I + iQ| x TGC; the gray level is the log-compressed value averaged
-// over the S points with weights wq (S > 1 where the pixel is coarser than the grid: the scan
-// converter's anti-aliasing after log compression, else the display undersamples the speckle and
-// a sub-pixel tissue motion changes the pixels' values), gray = a log2(env) + b0 on [0, 255];
-// outside the view 0. Built like convolve_separable().
-PS_TARGET_CLONES("avx2", "default") PS_OPTIMIZE_O3
-void compress_run(const float* E, const float* Q, int NB, int S, const float* wq, const float* tgc, const int* lut_i,
-                  const float* lut_wb, const float* lut_wk, const uint8_t* in_view, float a, float b0, float* envelope,
-                  uint8_t* pixels, size_t n) {
-  for (size_t p = 0; p < n; ++p) {
-    float gray = 0.0f, env0 = 0.0f;
-    for (int q = 0; q < S; ++q) {
-      const size_t l = p * S + q;
-      const int i = in_view[p] ? lut_i[l] : 0;
-      const float wb = lut_wb[l], wk = lut_wk[l];
-      const float w00 = (1 - wk) * (1 - wb), w01 = (1 - wk) * wb, w10 = wk * (1 - wb), w11 = wk * wb;
-      const float er = w00 * E[i] + w01 * E[i + 1] + w10 * E[i + NB] + w11 * E[i + NB + 1];
-      const float ei = w00 * Q[i] + w01 * Q[i + 1] + w10 * Q[i + NB] + w11 * Q[i + NB + 1];
-      const float env = std::sqrt(er * er + ei * ei) * tgc[p];
-      if (q == 0) env0 = env;
-      const float g = env > 1e-12f ? a * fast_log2(env) + b0 : 0.0f;
-      gray += wq[q] * std::clamp(g, 0.0f, 255.0f);
-    }
-    envelope[p] = in_view[p] ? env0 : 0.0f;
-    pixels[p] = in_view[p] ? static_cast<uint8_t>(std::clamp(gray, 0.0f, 255.0f)) : uint8_t{0};
+// Scan conversion and log compression (compress()): the I/Q signal of the grid (bilinear between
+// beams and samples; interpolating the envelope instead filled the speckle's nulls: envelope SNR
+// 2.2 instead of 1.91) at S points of each pixel, point 0 its centre. The envelope is the centre's
+// |I + iQ| x TGC; the gray level is the log-compressed value averaged over the S points with
+// weights wq (S > 1 where the pixel is coarser than the grid: the scan converter's anti-aliasing
+// after log compression, else the display undersamples the speckle and a sub-pixel tissue motion
+// changes the pixels' values), gray = a log2(env) + b0 on [0, 255].
+// Only the n pixels in the view are formed (the others stay 0 from the constructor); the look-up
+// tables are point-major over them (lut_i[q * n + k]). Per point, the grid's four I/Q pairs are
+// read from the interleaved signal EQ (re, im of a sample side by side: two 16-byte rows) in a
+// scalar loop that writes |I + iQ|^2; the square root, log, clamp and weighting then run as
+// branch-free loops over contiguous pixels that the compiler vectorises (built like
+// convolve_separable()). The sums keep the scalar order: the same bits on every clone.
+namespace {
+__attribute__((always_inline)) inline void iq_power(const float* __restrict EQ, int NB, const int* __restrict lut_i,
+                                                    const float* __restrict lut_wb, const float* __restrict lut_wk,
+                                                    float* __restrict mag2, size_t n) {
+  const size_t row = 2 * static_cast<size_t>(NB);
+  for (size_t k = 0; k < n; ++k) {
+    const float* e = EQ + 2 * static_cast<size_t>(lut_i[k]);
+    const float wb = lut_wb[k], wk = lut_wk[k];
+    const float w00 = (1 - wk) * (1 - wb), w01 = (1 - wk) * wb, w10 = wk * (1 - wb), w11 = wk * wb;
+    const float er = w00 * e[0] + w01 * e[2] + w10 * e[row] + w11 * e[row + 2];
+    const float ei = w00 * e[1] + w01 * e[3] + w10 * e[row + 1] + w11 * e[row + 3];
+    mag2[k] = er * er + ei * ei;
   }
+}
+template <bool First>
+__attribute__((always_inline)) inline void log_pass(const float* __restrict mag2, float wq, const float* __restrict tgc, float a,
+                                                    float b0, float* __restrict envelope, float* __restrict gray, size_t n) {
+  for (size_t k = 0; k < n; ++k) {
+    // mag2 >= 0 (or NaN): no errno, one vsqrtps for the lanes (-fno-math-errno on this file)
+    const float env = std::sqrt(mag2[k]) * tgc[k];
+    // computed for every pixel and then selected: a branch would keep the loop scalar
+    const float lg = a * fast_log2(env) + b0;
+    const float g = env > 1e-12f ? lg : 0.0f;
+    const float c = wq * std::min(std::max(g, 0.0f), 255.0f);
+    if constexpr (First) {
+      envelope[k] = env;
+      gray[k] = 0.0f + c;
+    } else {
+      gray[k] += c;
+    }
+  }
+}
+}  // namespace
+
+PS_TARGET_CLONES("avx2", "default") PS_OPTIMIZE_O3
+void compress_run(const float* EQ, int NB, int S, const float* wq, const float* tgc, const int* lut_i, const float* lut_wb,
+                  const float* lut_wk, float a, float b0, float* envelope, float* gray, float* mag2, uint8_t* pixels, size_t n) {
+  for (int q = 0; q < S; ++q) {
+    const size_t o = static_cast<size_t>(q) * n;
+    iq_power(EQ, NB, lut_i + o, lut_wb + o, lut_wk + o, mag2, n);
+    if (q == 0) log_pass<true>(mag2, wq[0], tgc, a, b0, envelope, gray, n);
+    else log_pass<false>(mag2, wq[q], tgc, a, b0, envelope, gray, n);
+  }
+  for (size_t k = 0; k < n; ++k) pixels[k] = static_cast<uint8_t>(static_cast<int32_t>(std::min(std::max(gray[k], 0.0f), 255.0f)));
+}
+
+// scatter()'s arithmetic passes over a row's candidate samples, built like convolve_separable()
+// (the loops live in always_inline helpers: GCC 12 does not vectorise a loop written directly in
+// a function that carries target_clones and optimize("O3"))
+namespace {
+__attribute__((always_inline)) inline void cell_loop(const float* __restrict cs, const float* __restrict ct, int n, float gs0,
+                                                     float gt0, float inv_g, int gx, int gy, int* __restrict node,
+                                                     float* __restrict w00, float* __restrict w10, float* __restrict w01,
+                                                     float* __restrict w11) {
+  for (int i = 0; i < n; ++i) {
+    const float afx = (cs[i] - gs0) * inv_g, bfy = (gt0 - ct[i]) * inv_g;
+    const int a = std::min(std::max(static_cast<int>(afx), 0), gx - 2), bb = std::min(std::max(static_cast<int>(bfy), 0), gy - 2);
+    const float wa = std::min(std::max(afx - a, 0.0f), 1.0f), wb = std::min(std::max(bfy - bb, 0.0f), 1.0f);
+    node[i] = bb * gx + a;
+    w00[i] = (1 - wa) * (1 - wb), w10[i] = wa * (1 - wb), w01[i] = (1 - wa) * wb, w11[i] = wa * wb;
+  }
+}
+__attribute__((always_inline)) inline void rest_loop(const float* __restrict cs, const float* __restrict ct,
+                                                     const float* __restrict u0, const float* __restrict u1,
+                                                     const float* __restrict u2, float O0, float O1, float O2, float r0,
+                                                     float r1, float r2, float p0, float p1, float p2, float* __restrict x0,
+                                                     float* __restrict x1, float* __restrict x2, int n) {
+  for (int i = 0; i < n; ++i) {
+    const float s = cs[i], t = ct[i];
+    x0[i] = O0 + s * r0 + t * p0 - u0[i];
+    x1[i] = O1 + s * r1 + t * p1 - u1[i];
+    x2[i] = O2 + s * r2 + t * p2 - u2[i];
+  }
+}
+}  // namespace
+
+// plane point (s, t) -> displacement grid cell (bb * gx + a) and its four bilinear weights
+PS_TARGET_CLONES("avx2", "default") PS_OPTIMIZE_O3
+void cell_weights(const float* cs, const float* ct, int n, float gs0, float gt0, float inv_g, int gx, int gy, int* node,
+                  float* w00, float* w10, float* w01, float* w11) {
+  cell_loop(cs, ct, n, gs0, gt0, inv_g, gx, gy, node, w00, w10, w01, w11);
+}
+
+// rest point O + s right + t up - u of each plane point
+PS_TARGET_CLONES("avx2", "default") PS_OPTIMIZE_O3
+void rest_points(const float* cs, const float* ct, const float* u0, const float* u1, const float* u2, const float* O,
+                 const float* Rr, const float* Ru, float* x0, float* x1, float* x2, int n) {
+  rest_loop(cs, ct, u0, u1, u2, O[0], O[1], O[2], Rr[0], Rr[1], Rr[2], Ru[0], Ru[1], Ru[2], x0, x1, x2, n);
 }
 
 PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSettings& settings, PlaneKind kind)
@@ -236,10 +308,13 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
   gim_.assign(ng, 0.0f);
   gtr_.assign(ng, 0.0f);
   gti_.assign(ng, 0.0f);
-  env_.assign(ng + NB_ + 1, 0.0f);
-  env_im_.assign(ng + NB_ + 1, 0.0f);
+  eq_.assign(2 * (ng + NB_ + 1), 0.0f);
   rod_k_.assign(NB_, NS_);
   rod_m_.assign(NB_, 1.0f);
+  beam_T_.assign(NB_, 1.0f);
+  sc_.assign(14 * static_cast<size_t>(NB_), 0.0f);
+  sci_.assign(3 * static_cast<size_t>(NB_), 0);
+  scf_.assign(NB_, 0);
   for (int k = 0; k < NS_; ++k)
     for (int b = 0; b < NB_; ++b) {
       double s, t;
@@ -268,9 +343,6 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
   }
   sub_w_.assign(sub_at.size(), 1.0f / static_cast<float>(sub_at.size()));
   sub_ = static_cast<int>(sub_at.size());
-  lut_i_.assign(np * sub_, 0);
-  lut_wb_.assign(np * sub_, 0.0f);
-  lut_wk_.assign(np * sub_, 0.0f);
   // grid coordinates (beam, sample) of plane point (s, t), clamped into the grid
   auto grid_of = [&](double s, double t, size_t l) {
     double depth, bf;
@@ -297,13 +369,29 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
       const size_t p = static_cast<size_t>(j) * W_ + i;
       img_.in_view[p] = 1;
       depth_[p] = static_cast<float>(depth);
-      for (int q = 0; q < sub_; ++q) grid_of(s + sub_at[q][0] * px_, t + sub_at[q][1] * px_, p * sub_ + q);
+      view_pix_.push_back(static_cast<int>(p));
       // round-trip TGC in dB: 2 * slope * f * depth
       const double tgc_db = 2.0 * set_.tgc_db_cm_mhz * f_mhz * depth * 100.0 + set_.gain_db;
       tgc_[p] = static_cast<float>(std::pow(10.0, tgc_db / 20.0));
     }
+  // the scan converter's tables over the pixels in the view only, point-major (compress_run())
+  const size_t nv = view_pix_.size();
+  lut_i_.assign(nv * sub_, 0);
+  lut_wb_.assign(nv * sub_, 0.0f);
+  lut_wk_.assign(nv * sub_, 0.0f);
+  tgc_v_.resize(nv);
+  for (size_t v = 0; v < nv; ++v) {
+    const int p = view_pix_[v];
+    const double s = pixel_s(p % W_), t = pixel_t(p / W_);
+    for (int q = 0; q < sub_; ++q) grid_of(s + sub_at[q][0] * px_, t + sub_at[q][1] * px_, q * nv + v);
+    tgc_v_[v] = tgc_[p];
+  }
+  env_v_.assign(nv, 0.0f);
+  gray_.assign(nv, 0.0f);
+  mag2_.assign(nv, 0.0f);
+  pix_v_.assign(nv, 0);
 
-  row_q_.assign(9 * static_cast<size_t>(NB_), 0.0f);
+  row_q_.assign(12 * static_cast<size_t>(NB_), 0.0f);
   row_i_.assign(NB_, 0);
 
   // displacement grid over the window (plus one node of margin)
@@ -683,91 +771,153 @@ void PlaneImager::scatter(const UltrasoundScene& sc, const PlaneFrame& f) {
   const Vec3 foot = sc.probe.tip_centre - sc.probe.tip_centre.dot(sc.probe.axis) * sc.probe.axis;
   const float e0 = static_cast<float>((f.origin - foot).dot(f.normal));
   const float st = stretch_;
-  for (int k = 0; k < NS_; ++k) {
-    int na = 0;  // active samples of this row, compacted for the vectorised noise kernel
-    float* cr = &gre_[static_cast<size_t>(k) * NB_];
-    float* ci = &gim_[static_cast<size_t>(k) * NB_];
-    for (int b = 0; b < NB_; ++b) {
-      const size_t g = static_cast<size_t>(k) * NB_ + b;
-      cr[b] = ci[b] = 0.0f;
-      stop_[g] = 0;
-      const int p = samp_pix_[g];
+  // Everything the loop reads, in locals: it stores through uint8_t (stop_), which may alias any
+  // object, so members and vector data pointers would otherwise be reloaded for every sample.
+  const int NB = NB_, NS = NS_, gx = gx_, gy = gy_, tx = tx_, ty = ty_;
+  const float gs0 = static_cast<float>(gs0_), gt0 = static_cast<float>(gt0_);
+  const float s0 = static_cast<float>(s0_), t0 = static_cast<float>(t0_);
+  const int* const samp_pix = samp_pix_.data();
+  const float* const samp_s = samp_s_.data();
+  const float* const samp_t = samp_t_.data();
+  const uint8_t* const label = img_.label.data();
+  const TissueAcoustics* const comp_ac = comp_ac_.data();
+  const uint8_t* const comp_prostate = comp_prostate_.data();
+  const float* const field = field_.data();
+  const float* const tex = tex_.data();
+  const float* const vval = vol.value.data();
+  const bool vol_empty = vol.empty();
+  const int vnx = vol.nx, vny = vol.ny, vnz = vol.nz;
+  uint8_t* const stop = stop_.data();
+  float* const gre = gre_.data();
+  float* const gim = gim_.data();
+  float* const rq = row_q_.data();
+  int* const row_i = row_i_.data();
+  const size_t n9 = 9 * static_cast<size_t>(NB), n6 = 6 * static_cast<size_t>(NB);
+  // per-row scratch (sc_ holds 14 rows of NB): the candidates' beam, component, flags and
+  // backscatter (pass 1), then their plane point, grid cell and weights, displacement and rest point
+  float* const cs = sc_.data();
+  float* const ct = cs + NB;
+  float* const cw00 = cs + 2 * NB;
+  float* const cw10 = cs + 3 * NB;
+  float* const cw01 = cs + 4 * NB;
+  float* const cw11 = cs + 5 * NB;
+  float* const cu0 = cs + 6 * NB;
+  float* const cu1 = cs + 7 * NB;
+  float* const cu2 = cs + 8 * NB;
+  float* const cx0 = cs + 9 * NB;
+  float* const cx1 = cs + 10 * NB;
+  float* const cx2 = cs + 11 * NB;
+  float* const cecho = cs + 12 * NB;
+  int* const cb = sci_.data();
+  int* const cnode = cb + NB;
+  int* const ccomp = cb + 2 * NB;
+  uint8_t* const cflag = scf_.data();
+  constexpr uint8_t kWall = 1, kGland = 2, kHetero = 4;
+  for (int k = 0; k < NS; ++k) {
+    const size_t row = static_cast<size_t>(k) * NB;
+    std::fill(gre + row, gre + row + NB, 0.0f);
+    std::fill(gim + row, gim + row + NB, 0.0f);
+    std::fill(stop + row, stop + row + NB, uint8_t{0});
+    // 1. candidates: samples in tissue with an echo or in the gland (scalar: label look-ups)
+    int nc = 0;
+    for (int b = 0; b < NB; ++b) {
+      const int p = samp_pix[row + b];
       if (p < 0) continue;
-      const uint8_t lab = img_.label[p];
+      const uint8_t lab = label[p];
       if (lab == 255) continue;
       const int c = lab & 63;
-      const TissueAcoustics& ac = comp_ac_[c];
+      const TissueAcoustics& ac = comp_ac[c];
       const bool wall = lab >= 64;
-      const bool prostate = comp_prostate_[c] != 0;
-      float echo = wall ? ac.wall_echo : ac.echo;
+      const bool prostate = comp_prostate[c] != 0;
+      const float echo = wall ? ac.wall_echo : ac.echo;
       if (echo <= 0.0f && !prostate) continue;
-      const float s = samp_s_[g], t = samp_t_[g];
-      const float afx = (s - static_cast<float>(gs0_)) * inv_g, bfy = (static_cast<float>(gt0_) - t) * inv_g;
-      const int a = std::clamp(static_cast<int>(afx), 0, gx_ - 2), bb = std::clamp(static_cast<int>(bfy), 0, gy_ - 2);
-      const float wa = std::clamp(afx - a, 0.0f, 1.0f), wb = std::clamp(bfy - bb, 0.0f, 1.0f);
-      const float* fc = &field_[static_cast<size_t>(c) * nodes * 4];
-      const float* n00 = &fc[(static_cast<size_t>(bb) * gx_ + a) * 4];
+      cb[nc] = b;
+      ccomp[nc] = c;
+      cflag[nc] = static_cast<uint8_t>((wall ? kWall : 0) | (!wall && prostate && !vol_empty ? kGland : 0) |
+                                       (!wall && ac.hetero > 0.0f ? kHetero : 0));
+      cecho[nc] = echo;
+      cs[nc] = samp_s[row + b];
+      ct[nc] = samp_t[row + b];
+      ++nc;
+    }
+    // 2. displacement grid cell and bilinear weights (branch-free arithmetic, vectorised)
+    cell_weights(cs, ct, nc, gs0, gt0, inv_g, gx, gy, cnode, cw00, cw10, cw01, cw11);
+    // 3. the component's displacement there (scalar: its grid's nodes)
+    for (int i = 0; i < nc; ++i) {
+      const float* n00 = field + (static_cast<size_t>(ccomp[i]) * nodes + static_cast<size_t>(cnode[i])) * 4;
       const float* n10 = n00 + 4;
-      const float* n01 = n00 + static_cast<size_t>(gx_) * 4;
+      const float* n01 = n00 + static_cast<size_t>(gx) * 4;
       const float* n11 = n01 + 4;
-      const float w00 = (1 - wa) * (1 - wb), w10 = wa * (1 - wb), w01 = (1 - wa) * wb, w11 = wa * wb;
-      float u[3], X[3];
-      for (int d = 0; d < 3; ++d) u[d] = w00 * n00[d] + w10 * n10[d] + w01 * n01[d] + w11 * n11[d];
-      for (int d = 0; d < 3; ++d) X[d] = O[d] + s * Rr[d] + t * Ru[d] - u[d];
-      if (!wall && prostate && !vol.empty()) {
-        // trilinear look-up of the rest-space echo volume (zones, lesion, urethra, calcifications)
-        const float qx = (X[0] - vo[0]) * vinv, qy = (X[1] - vo[1]) * vinv, qz = (X[2] - vo[2]) * vinv;
-        if (qx >= 0 && qy >= 0 && qz >= 0 && qx < vol.nx - 1 && qy < vol.ny - 1 && qz < vol.nz - 1) {
+      const float w00 = cw00[i], w10 = cw10[i], w01 = cw01[i], w11 = cw11[i];
+      cu0[i] = w00 * n00[0] + w10 * n10[0] + w01 * n01[0] + w11 * n11[0];
+      cu1[i] = w00 * n00[1] + w10 * n10[1] + w01 * n01[1] + w11 * n11[1];
+      cu2[i] = w00 * n00[2] + w10 * n10[2] + w01 * n01[2] + w11 * n11[2];
+    }
+    // 4. rest point X = x - u (vectorised)
+    rest_points(cs, ct, cu0, cu1, cu2, O, Rr, Ru, cx0, cx1, cx2, nc);
+    // 5. the gland's echo from its rest-space volume (zones, lesion, urethra, calcifications) and
+    // the low-frequency texture (fat lobules, nodules; bilinear on the coarse pixel grid)
+    for (int i = 0; i < nc; ++i) {
+      const uint8_t fl = cflag[i];
+      if (!(fl & (kGland | kHetero))) continue;
+      float echo = cecho[i];
+      if (fl & kGland) {
+        const float qx = (cx0[i] - vo[0]) * vinv, qy = (cx1[i] - vo[1]) * vinv, qz = (cx2[i] - vo[2]) * vinv;
+        if (qx >= 0 && qy >= 0 && qz >= 0 && qx < vnx - 1 && qy < vny - 1 && qz < vnz - 1) {
           const int ix = static_cast<int>(qx), iy = static_cast<int>(qy), iz = static_cast<int>(qz);
           const float fu = qx - ix, fv = qy - iy, fw = qz - iz;
-          const float* e0p = &vol.value[(static_cast<size_t>(iz) * vol.ny + iy) * vol.nx + ix];
-          const float* e1p = e0p + static_cast<size_t>(vol.nx) * vol.ny;
-          const int sx = 1, sy = vol.nx;
+          const float* e0p = &vval[(static_cast<size_t>(iz) * vny + iy) * vnx + ix];
+          const float* e1p = e0p + static_cast<size_t>(vnx) * vny;
+          const int sx = 1, sy = vnx;
           const float c0 = (e0p[0] * (1 - fu) + e0p[sx] * fu) * (1 - fv) + (e0p[sy] * (1 - fu) + e0p[sy + sx] * fu) * fv;
           const float c1 = (e1p[0] * (1 - fu) + e1p[sx] * fu) * (1 - fv) + (e1p[sy] * (1 - fu) + e1p[sy + sx] * fu) * fv;
           echo = c0 * (1 - fw) + c1 * fw;
-          stop_[g] = echo >= kCalcificationEcho;
+          stop[row + cb[i]] = echo >= kCalcificationEcho;
         }
       }
-      if (!wall && ac.hetero > 0.0f) {
-        // low-frequency texture from the coarse pixel grid (bilinear; it varies over ~3 mm)
-        const float tc = std::clamp((s - static_cast<float>(s0_)) * inv_px * (1.0f / kTexStep), 0.0f, tx_ - 1.001f);
-        const float tr = std::clamp((static_cast<float>(t0_) - t) * inv_px * (1.0f / kTexStep), 0.0f, ty_ - 1.001f);
+      if (fl & kHetero) {
+        const float tc = std::clamp((cs[i] - s0) * inv_px * (1.0f / kTexStep), 0.0f, tx - 1.001f);
+        const float tr = std::clamp((t0 - ct[i]) * inv_px * (1.0f / kTexStep), 0.0f, ty - 1.001f);
         const int ta = static_cast<int>(tc), tb = static_cast<int>(tr);
         const float tu = tc - ta, tv = tr - tb;
-        const float* q = &tex_[static_cast<size_t>(tb) * tx_ + ta];
-        const float tval = (q[0] * (1 - tu) + q[1] * tu) * (1 - tv) + (q[tx_] * (1 - tu) + q[tx_ + 1] * tu) * tv;
-        echo *= std::max(0.05f, 1.0f + ac.hetero * (2.0f * tval - 1.0f));
+        const float* q = &tex[static_cast<size_t>(tb) * tx + ta];
+        const float tval = (q[0] * (1 - tu) + q[1] * tu) * (1 - tv) + (q[tx] * (1 - tu) + q[tx + 1] * tu) * tv;
+        echo *= std::max(0.05f, 1.0f + comp_ac[ccomp[i]].hetero * (2.0f * tval - 1.0f));
       }
-      if (echo <= 0.0f) continue;
-      // elevation stretch: the rest point's height above the slice, scaled
-      const float el = e0 - (u[0] * Rn[0] + u[1] * Rn[1] + u[2] * Rn[2]);
-      for (int d = 0; d < 3; ++d) X[d] += st * el * Rn[d];
-      row_i_[na] = b;
-      lattice_coords(X, na);
-      row_q_[6 * NB_ + na] = echo;
+      cecho[i] = echo;
+    }
+    // 6. elevation stretch (the rest point's height above the slice, scaled), then the samples
+    // with an echo compacted into the noise kernel's slots
+    int na = 0;
+    for (int i = 0; i < nc; ++i) {
+      if (cecho[i] <= 0.0f) continue;
+      const float el = e0 - (cu0[i] * Rn[0] + cu1[i] * Rn[1] + cu2[i] * Rn[2]);
+      row_i[na] = cb[i];
+      rq[n9 + na] = cx0[i] + st * el * Rn[0];
+      rq[n9 + NB + na] = cx1[i] + st * el * Rn[1];
+      rq[n9 + 2 * NB + na] = cx2[i] + st * el * Rn[2];
+      rq[n6 + na] = cecho[i];
       ++na;
     }
-    float* re = &row_q_[7 * static_cast<size_t>(NB_)];
-    float* im = &row_q_[8 * static_cast<size_t>(NB_)];
+    float* re = rq + 7 * static_cast<size_t>(NB);
+    float* im = rq + 8 * static_cast<size_t>(NB);
     speckle(na, re, im);
-    for (int a = 0; a < na; ++a) cr[row_i_[a]] = re[a], ci[row_i_[a]] = im[a];
+    float* cr = gre + row;
+    float* ci = gim + row;
+    for (int a = 0; a < na; ++a) cr[row_i[a]] = re[a], ci[row_i[a]] = im[a];
   }
 }
 
 void PlaneImager::lattice_coords(const float* X, int a) {
-  const float invL = 1.0f / lattice_;
   const size_t n = static_cast<size_t>(NB_);
-  row_q_[a] = (kRot[0] * X[0] + kRot[1] * X[1] + kRot[2] * X[2]) * invL;
-  row_q_[n + a] = (kRot[3] * X[0] + kRot[4] * X[1] + kRot[5] * X[2]) * invL;
-  row_q_[2 * n + a] = (kRot[6] * X[0] + kRot[7] * X[1] + kRot[8] * X[2]) * invL;
-  row_q_[3 * n + a] = (kRot2[0] * X[0] + kRot2[1] * X[1] + kRot2[2] * X[2]) * invL + 0.5f;
-  row_q_[4 * n + a] = (kRot2[3] * X[0] + kRot2[4] * X[1] + kRot2[5] * X[2]) * invL + 0.5f;
-  row_q_[5 * n + a] = (kRot2[6] * X[0] + kRot2[7] * X[1] + kRot2[8] * X[2]) * invL + 0.5f;
+  row_q_[9 * n + a] = X[0];
+  row_q_[10 * n + a] = X[1];
+  row_q_[11 * n + a] = X[2];
 }
 
 void PlaneImager::speckle(int na, float* re, float* im) {
   const size_t n = static_cast<size_t>(NB_);
+  lattice_row(&row_q_[9 * n], &row_q_[10 * n], &row_q_[11 * n], kRot, kRot2, 1.0f / lattice_, &row_q_[0], n, na);
   speckle_row(&row_q_[0], &row_q_[n], &row_q_[2 * n], &row_q_[6 * n], re, im, na, false);
   speckle_row(&row_q_[3 * n], &row_q_[4 * n], &row_q_[5 * n], &row_q_[6 * n], re, im, na, true);
 }
@@ -946,25 +1096,32 @@ void PlaneImager::transmission(const UltrasoundScene& sc, const PlaneFrame& f) {
   for (size_t c = 0; c < an_.components.size(); ++c) fac[c] = factor(acoustics(an_.components[c].tissue).atten);
   // calcifications (prostate echo volume above kCalcEcho) stop the beam like bone
   const float calc = factor(acoustics(Tissue::Bone).atten);
-  for (int b = 0; b < NB_; ++b) {
-    float T = 1.0f;
-    for (int k = 0; k < NS_; ++k) {
-      const size_t g = static_cast<size_t>(k) * NB_ + b;
-      T_[g] = T;
-      const int p = samp_pix_[g];
-      const uint8_t lab = p >= 0 ? img_.label[p] : uint8_t{255};
+  // row by row (contiguous in memory), each beam's running product in beam_T_: T(k) is the product
+  // of the factors of the samples above k, in depth order
+  const int NB = NB_, NS = NS_;
+  const int* const samp_pix = samp_pix_.data();
+  const uint8_t* const label = img_.label.data();
+  const uint8_t* const stop = stop_.data();
+  const float* const mark = mark_.data();
+  float* const Tb = beam_T_.data();
+  std::fill(Tb, Tb + NB, 1.0f);
+  for (int k = 0; k < NS; ++k)
+    for (int b = 0; b < NB; ++b) {
+      const size_t g = static_cast<size_t>(k) * NB + b;
+      T_[g] = Tb[b];
+      const int p = samp_pix[g];
+      const uint8_t lab = p >= 0 ? label[p] : uint8_t{255};
       float a = lab == 255 ? soft : fac[lab >= 64 ? 128 : lab];
-      if (stop_[g]) a = calc;
-      T *= a * mark_[g];
+      if (stop[g]) a = calc;
+      Tb[b] *= a * mark[g];
     }
-  }
   // the I/Q signal x calibration x transmission, scan-converted before detection (compress())
-  for (int k = 0; k < NS_; ++k)
-    for (int b = 0; b < NB_; ++b) {
-      const size_t g = static_cast<size_t>(k) * NB_ + b;
+  for (int k = 0; k < NS; ++k)
+    for (int b = 0; b < NB; ++b) {
+      const size_t g = static_cast<size_t>(k) * NB + b;
       const float a = calib_[k] * T_[g];
-      env_[g] = gre_[g] * a;
-      env_im_[g] = gim_[g] * a;
+      eq_[2 * g] = gre_[g] * a;
+      eq_[2 * g + 1] = gim_[g] * a;
     }
 }
 
@@ -972,9 +1129,14 @@ void PlaneImager::compress() {
   const float dr = static_cast<float>(set_.dynamic_range_db);
   // gray = 255 * (20 log10(env) / DR + floor); 20 log10(x) = 6.0206 log2(x)
   const float a = 255.0f * 6.0205999f / dr, b0 = 255.0f * kDisplayFloor;
-  const size_t np = static_cast<size_t>(W_) * H_;
-  compress_run(env_.data(), env_im_.data(), NB_, sub_, sub_w_.data(), tgc_.data(), lut_i_.data(), lut_wb_.data(), lut_wk_.data(), img_.in_view.data(), a, b0,
-               img_.envelope.data(), img_.pixels.data(), np);
+  const size_t nv = view_pix_.size();
+  compress_run(eq_.data(), NB_, sub_, sub_w_.data(), tgc_v_.data(), lut_i_.data(), lut_wb_.data(), lut_wk_.data(), a, b0,
+               env_v_.data(), gray_.data(), mag2_.data(), pix_v_.data(), nv);
+  // into the image; the pixels outside the view stay 0 from the constructor
+  for (size_t v = 0; v < nv; ++v) {
+    img_.envelope[view_pix_[v]] = env_v_[v];
+    img_.pixels[view_pix_[v]] = pix_v_[v];
+  }
 }
 
 void PlaneImager::overlays(const UltrasoundScene& sc, const PlaneFrame& f) {

@@ -109,7 +109,7 @@ class PlaneImager {
   void coherent_surfaces();
   void coherent_rods(const UltrasoundScene& sc, const PlaneFrame& f);
   void reverberation();
-  // lattice coordinates of rest point X (both lattices) into slot a of row_q_
+  // rest point X [m] into slot a of row_q_ (speckle() turns it into both lattices' coordinates)
   void lattice_coords(const float* X, int a);
   // complex scatterer field of the na slots of row_q_ (x their amplitude) into re, im
   void speckle(int na, float* re, float* im);
@@ -136,8 +136,12 @@ class PlaneImager {
   std::vector<float> tgc_;            // TGC x gain
   int sub_ = 1;                       // display samples per pixel, the centre first
   std::vector<float> sub_w_;          // [sub_] their weights in the pixel's gray level
-  std::vector<int> lut_i_;            // [pixels * sub_] grid sample (k * NB + b) of each display sample
+  std::vector<int> view_pix_;         // the pixels in the field of view, row-major
+  std::vector<int> lut_i_;            // [sub_ * view pixels] grid sample (k * NB + b) of each display sample, point-major
   std::vector<float> lut_wb_, lut_wk_;
+  std::vector<float> tgc_v_;          // [view pixels] TGC x gain
+  std::vector<float> env_v_, gray_, mag2_;  // [view pixels] compress(): envelope, gray level summed over the display samples, |I/Q|^2
+  std::vector<uint8_t> pix_v_;        // [view pixels] gray levels
   // acquisition grid: NS depth samples (rows) x NB beams, index k * NB + b
   int NB_ = 0, NS_ = 0;
   double dz_ = 0, dbeam_ = 0;         // sample spacing [m]; beam spacing [rad] (transverse) or [m] (sagittal)
@@ -146,9 +150,10 @@ class PlaneImager {
   std::vector<float> T_, mark_;       // transmitted amplitude; rod shadow marks
   std::vector<uint8_t> stop_;         // 1: a calcification (stops the beam like bone)
   std::vector<float> gre_, gim_, gtr_, gti_;  // complex echo and scratch
-  std::vector<float> env_, env_im_;   // I/Q x transmission x calibration
+  std::vector<float> eq_;             // [2 * (samples + NB + 1)] I/Q x transmission x calibration, interleaved (re, im)
   std::vector<int> rod_k_;            // [NB] per rod: shallowest depth sample where the beam meets it (NS: none)
   std::vector<float> rod_m_;          // [NB] per rod: fraction of the beam it lets through there
+  std::vector<float> beam_T_;         // [NB] transmission(): each beam's amplitude so far
   // PSF
   std::vector<float> kax_;            // axial taps (in samples, normalised)
   std::vector<float> klat_;           // lateral taps of every row, concatenated
@@ -172,8 +177,11 @@ class PlaneImager {
   std::vector<uint8_t> comp_prostate_;    // [components] 1: the gland (echo from the rest volume)
   int tx_ = 0, ty_ = 0;               // heterogeneity texture grid (every kTexStep pixels)
   std::vector<float> tex_;
-  std::vector<float> row_q_;          // [9 * NB] one row's lattice coordinates (2 x 3), amplitude, noise (re, im)
+  std::vector<float> row_q_;          // [12 * NB] one row's lattice coordinates (2 x 3), amplitude, noise (re, im), rest points (3)
   std::vector<int> row_i_;            // [NB] their beams
+  std::vector<float> sc_;             // [14 * NB] scatter()'s per-row scratch (floats)
+  std::vector<int> sci_;              // [3 * NB] (beam, grid cell, component of each candidate)
+  std::vector<uint8_t> scf_;          // [NB] (flags of each candidate)
   std::vector<float> pad_;
 };
 

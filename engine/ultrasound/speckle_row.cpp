@@ -19,10 +19,12 @@ inline uint32_t mix(uint32_t h) {  // lowbias32, as hash32() in speckle.h
 // Gaussian than one uniform value, so few nodes under the PSF already give complex Gaussian speckle)
 inline float lo16(uint32_t h) { return static_cast<float>(static_cast<int32_t>((h & 0xFFu) + ((h >> 8) & 0xFFu)) - 255); }
 inline float hi16(uint32_t h) { return static_cast<float>(static_cast<int32_t>(((h >> 16) & 0xFFu) + (h >> 24)) - 255); }
-}  // namespace
 
-PS_TARGET_CLONES("avx2", "default") PS_OPTIMIZE_O3
-void speckle_row(const float* qx, const float* qy, const float* qz, const float* amp, float* re, float* im, int n, bool add) {
+// The row loop, with `add` fixed at compile time: a run-time choice inside the loop is control
+// flow, and GCC then leaves the whole loop scalar.
+template <bool Add>
+__attribute__((always_inline)) inline void speckle_loop(const float* __restrict qx, const float* __restrict qy, const float* __restrict qz,
+                         const float* __restrict amp, float* __restrict re, float* __restrict im, int n) {
   for (int p = 0; p < n; ++p) {
     const float x = qx[p], y = qy[p], z = qz[p];
     int32_t i = static_cast<int32_t>(x), j = static_cast<int32_t>(y), k = static_cast<int32_t>(z);
@@ -46,9 +48,45 @@ void speckle_row(const float* qx, const float* qy, const float* qz, const float*
     const float m = w000 * hi16(h0) + w100 * hi16(h1) + w010 * hi16(h2) + w110 * hi16(h3) + w001 * hi16(h4) +
                     w101 * hi16(h5) + w011 * hi16(h6) + w111 * hi16(h7);
     const float s = amp[p] * (1.0f / 256.0f);
-    re[p] = (add ? re[p] : 0.0f) + r * s;
-    im[p] = (add ? im[p] : 0.0f) + m * s;
+    if constexpr (Add) {
+      re[p] += r * s;
+      im[p] += m * s;
+    } else {
+      re[p] = 0.0f + r * s;  // 0 + x as before the split: the same value and sign of zero
+      im[p] = 0.0f + m * s;
+    }
   }
+}
+}  // namespace
+
+PS_TARGET_CLONES("avx2", "default") PS_OPTIMIZE_O3
+void speckle_row(const float* qx, const float* qy, const float* qz, const float* amp, float* re, float* im, int n, bool add) {
+  if (add) speckle_loop<true>(qx, qy, qz, amp, re, im, n);
+  else speckle_loop<false>(qx, qy, qz, amp, re, im, n);
+}
+
+namespace {
+__attribute__((always_inline)) inline void lattice_loop(const float* __restrict X0, const float* __restrict X1,
+                                                        const float* __restrict X2, const float* __restrict R1,
+                                                        const float* __restrict R2, float inv_step, float* __restrict q0,
+                                                        float* __restrict q1, float* __restrict q2, float* __restrict q3,
+                                                        float* __restrict q4, float* __restrict q5, int n) {
+  for (int p = 0; p < n; ++p) {
+    const float x = X0[p], y = X1[p], z = X2[p];
+    q0[p] = (R1[0] * x + R1[1] * y + R1[2] * z) * inv_step;
+    q1[p] = (R1[3] * x + R1[4] * y + R1[5] * z) * inv_step;
+    q2[p] = (R1[6] * x + R1[7] * y + R1[8] * z) * inv_step;
+    q3[p] = (R2[0] * x + R2[1] * y + R2[2] * z) * inv_step + 0.5f;
+    q4[p] = (R2[3] * x + R2[4] * y + R2[5] * z) * inv_step + 0.5f;
+    q5[p] = (R2[6] * x + R2[7] * y + R2[8] * z) * inv_step + 0.5f;
+  }
+}
+}  // namespace
+
+PS_TARGET_CLONES("avx2", "default") PS_OPTIMIZE_O3
+void lattice_row(const float* X0, const float* X1, const float* X2, const float* R1, const float* R2, float inv_step,
+                 float* q, size_t stride, int n) {
+  lattice_loop(X0, X1, X2, R1, R2, inv_step, q, q + stride, q + 2 * stride, q + 3 * stride, q + 4 * stride, q + 5 * stride, n);
 }
 
 }  // namespace ps::us
