@@ -31,7 +31,10 @@ struct UltrasoundArgs {
   std::string views = "us_transverse,us_sagittal";
   double gain_db = 0.0, depth_mm = 60.0, frequency_mhz = 7.5, dynamic_range_db = 60.0;
   double fov_deg = 140.0, width_mm = 60.0, slice_mm = 1.5;
-  double bandwidth = 0.18, focus_mm = 30.0, f_number = 3.0, rx_aperture_mm = 10.0;
+  // the point-spread function's defaults are the imager's (engine/ultrasound/settings.h)
+  inline static const us::UltrasoundSettings kDefault{};
+  double bandwidth = kDefault.bandwidth, focus_mm = kDefault.focus_depth * 1e3, f_number = kDefault.f_number;
+  double rx_aperture_mm = kDefault.rx_aperture * 1e3;
   double radius_mm = -1.0;         // convex radius: default the probe's radius
   double transverse_back_mm = 0.0, linear_front_mm = 0.0;
   int size = 512;

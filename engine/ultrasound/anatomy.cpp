@@ -230,7 +230,9 @@ UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt) {
     v.value.assign(nv, 0.9f);
     for (size_t i = 0; i < nv; ++i)
       if (den[i] > 1e-9) v.value[i] = static_cast<float>(num[i] / den[i]);
-    // urethra: anechoic lumen with a thin bright (periurethral) rim, in rest space so it deforms
+    // urethra: the collapsed lumen hypoechoic (0.55: a subtle line through the receive aperture's
+    // lateral blur, not a black band) with a thin bright (periurethral) rim, in rest space so it
+    // deforms
     if (a.urethra.size() >= 2) {
       const double r = a.urethra_radius;
       for (int k = 0; k < v.nz; ++k)
@@ -240,7 +242,7 @@ UltrasoundAnatomy build_anatomy(const Model& m, const AnatomyOptions& opt) {
             double d = 1e9;
             for (size_t s = 0; s + 1 < a.urethra.size(); ++s) d = std::min(d, segment_distance(p, a.urethra[s], a.urethra[s + 1]));
             float& val = v.value[(static_cast<size_t>(k) * v.ny + j) * v.nx + i];
-            if (d < r) val = 0.65f;
+            if (d < r) val = 0.55f;
             else if (d < r + 0.7e-3) val = std::max(val, 1.15f);
           }
     }

@@ -571,8 +571,9 @@ const UsImage& PlaneImager::render(const UltrasoundScene& sc) {
   coherent_surfaces();
   coherent_rods(sc, f);
   reverberation();
-  blur();
   transmission(sc, f);
+  blur();
+  calibrate();
   compress();
   overlays(sc, f);
   return img_;
@@ -1115,13 +1116,24 @@ void PlaneImager::transmission(const UltrasoundScene& sc, const PlaneFrame& f) {
       if (stop[g]) a = calc;
       Tb[b] *= a * mark[g];
     }
-  // the I/Q signal x calibration x transmission, scan-converted before detection (compress())
-  for (int k = 0; k < NS; ++k)
-    for (int b = 0; b < NB; ++b) {
-      const size_t g = static_cast<size_t>(k) * NB + b;
-      const float a = calib_[k] * T_[g];
-      eq_[2 * g] = gre_[g] * a;
-      eq_[2 * g + 1] = gim_[g] * a;
+  // each echo source x the round trip to it, before the pulse spreads it (blur()): a reflector's
+  // echo keeps its whole pulse length, the part behind a bone surface included, and a shadow's
+  // edges are as soft as the beam is wide
+  const size_t ng = static_cast<size_t>(NS) * NB;
+  for (size_t g = 0; g < ng; ++g) {
+    gre_[g] *= T_[g];
+    gim_[g] *= T_[g];
+  }
+}
+
+void PlaneImager::calibrate() {
+  // the I/Q signal x the speckle calibration of its depth, scan-converted before detection
+  // (compress())
+  for (int k = 0; k < NS_; ++k)
+    for (int b = 0; b < NB_; ++b) {
+      const size_t g = static_cast<size_t>(k) * NB_ + b;
+      eq_[2 * g] = gre_[g] * calib_[k];
+      eq_[2 * g + 1] = gim_[g] * calib_[k];
     }
 }
 

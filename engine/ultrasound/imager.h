@@ -21,13 +21,15 @@
 //     reflections are added: surfaces (specular ~ cos^4 of the angle of incidence + a diffuse
 //     part; capsule and bladder wall brightest at normal incidence), needles and seeds as rods
 //     weighted by the elevation beam profile, with comet tails, the probe's near-field
-//     reverberation. The complex (I/Q) signal is convolved with the pulse-echo point-spread
-//     function: axial Gaussian from the centre frequency and bandwidth, lateral from the
-//     transmit focus (Gaussian beam, widening away from the focus) and the dynamically focused
-//     receive aperture, per depth; the envelope is |I + iQ|.
-//  5. propagation on the same grid: round-trip attenuation per tissue and frequency, total
-//     shadow behind bone, gas and calcifications, partial shadow behind rods; time-gain
-//     compensation; then scan conversion (bilinear) to the pixels, gain, log compression.
+//     reverberation.
+//  5. propagation on the same grid: each echo source x its round-trip attenuation per tissue and
+//     frequency (total shadow behind bone, gas and calcifications, partial behind rods); then the
+//     complex (I/Q) signal is convolved with the pulse-echo point-spread function: axial Gaussian
+//     from the centre frequency and bandwidth, lateral from the transmit focus (Gaussian beam,
+//     widening away from the focus) and the dynamically focused receive aperture, per depth
+//     (attenuation before the blur: a bone surface's echo keeps its whole pulse length); time-gain
+//     compensation; scan conversion (bilinear, I/Q) to the pixels, envelope |I + iQ|, gain, log
+//     compression.
 //  6. overlays: biopsy guide (dotted, sagittal) and template holes (dots, transverse).
 // Buffers are sized in the constructor; render() does not allocate once the scene's vectors
 // have reached their size (the segment list grows to the largest cut seen, then stays).
@@ -117,6 +119,7 @@ class PlaneImager {
   void splat(float s, float t, float amp);
   void blur();
   void transmission(const UltrasoundScene& sc, const PlaneFrame& f);
+  void calibrate();
   void compress();
   void overlays(const UltrasoundScene& sc, const PlaneFrame& f);
   // beam direction (unit, plane coords) at plane point (s, t)

@@ -26,13 +26,18 @@ struct UltrasoundSettings {
   double linear_front = 0.0;           // front end of the linear array behind the tip centre [m]
   double slice_thickness = 1.5e-3;     // elevation beam width, FWHM [m]
   // --- point-spread function (imager.h: axial from the pulse, lateral from aperture and focus) ---
-  // Pulse-echo -6 dB fractional bandwidth. 25 % gives a 0.36 mm axial envelope FWHM at 7.5 MHz:
-  // the finest grain the 512 px transverse image (0.26 mm/px) shows without aliasing, so both
-  // planes show the same grain in millimetres (docs/ultrasound.md).
+  // Pulse-echo -6 dB fractional bandwidth: 18 % gives a 0.50 mm axial envelope FWHM at 7.5 MHz.
+  // A finer axial grain aliases on the 512 px transverse image (0.26 mm/px over the 140 degree
+  // sector): at 25-30 % the capsule's line breaks up there and a sub-pixel tissue motion
+  // decorrelates the speckle (imager_test.cpp), so both planes keep this grain in millimetres.
   double bandwidth = 0.18;             // [-]
   double focus_depth = 0.030;          // transmit focus below the array surface [m]
   double f_number = 3.0;               // transmit f-number (focal depth / aperture) [-]
-  double rx_aperture = 0.010;          // receive aperture (dynamic receive focus, f-number >= 2.5) [m]
+  // Receive aperture: a 10 mm radius convex array has only a few millimetres of elements facing a
+  // point; with dynamic focus (f-number >= 2.5) the lateral PSF is 0.64 mm at 18 mm and 1.19 mm at
+  // 45 mm, wider than the axial one below the focus, so the grain is elongated across the beam as
+  // on a clinical image.
+  double rx_aperture = 0.005;          // receive aperture (dynamic receive focus, f-number >= 2.5) [m]
   // --- output ---
   int width = 512, height = 512;       // pixels per plane
   bool overlays = true;                // biopsy guide line (sagittal) and template grid (transverse)
