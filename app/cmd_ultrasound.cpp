@@ -11,6 +11,8 @@
 
 #include "app/cli_ranges.h"
 #include "app/commands.h"
+#include "app/frames/template_overlay.h"
+#include "app/frames/us_isodose.h"
 #include "app/output_paths.h"
 #include "engine/io/png_write.h"
 #include "engine/scenario/compile.h"
@@ -138,7 +140,20 @@ void add_ultrasound_command(CLI::App& app, Runner& run) {
         us::PlaneImager im(anatomy, set, v == 0 ? us::PlaneKind::Transverse : us::PlaneKind::Sagittal);
         const us::UsImage& img = im.render(scene);
         const std::string path = a->out + "/" + names[v] + ".png";
-        write_png_atomic(path, img.width, img.height, 1, img.pixels.data());
+        std::vector<uint8_t> gray = img.pixels;
+        // the template's labelled grid with its crosses (frames/template_overlay.h)
+        if (v == 0 && opt.grid && set.overlays && spec.probe->has_template) {
+          std::vector<frames::TemplateHole> holes;
+          for (int r = 0; r < spec.probe->template_rows; ++r)
+            for (int c = 0; c < spec.probe->template_cols; ++c) {
+              const NeedlePath h = probe->template_hole(c, r);
+              holes.push_back({c, r, h.entry, h.direction});
+            }
+          const frames::HoleMarks marks = frames::transverse_hole_marks(frames::pixel_plane(im, scene.probe), holes);
+          frames::draw_template_gray(gray, img.width, img.height, marks, spec.probe->template_cols, spec.probe->template_rows,
+                                     frames::planned_holes(spec));
+        }
+        write_png_atomic(path, img.width, img.height, 1, gray.data());
         std::printf("%s: %dx%d px, %.3f mm/px, t = %.3f s -> %s\n", names[v], img.width, img.height, img.pixel * 1e3,
                     sim.state().time, path.c_str());
       }

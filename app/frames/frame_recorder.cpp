@@ -44,6 +44,8 @@ struct FrameRecorder::Impl {
   std::vector<std::unique_ptr<us::PlaneImager>> imagers;   // one per opt.us_views
   us::UltrasoundScene us_scene;
   us::ProbeView probe_view;                                // last seen in a snapshot
+  int template_cols = 0, template_rows = 0;                // the probe's template (0: none)
+  std::vector<PlannedHole> plan;                           // the scene's planned holes
   std::unique_ptr<SnapshotDose> dose;                      // a scene with seeds: isodose views
   std::vector<dosimetry::IsoSegment> iso_segments;
   render::HeadlessContext ctx;     // first: no GL, nothing written
@@ -79,6 +81,9 @@ struct FrameRecorder::Impl {
     for (int k = 0; k < 4; ++k) thumb_frames.push_back(static_cast<int>(std::lround(k * (n - 1) / 3.0)));
     if (!opt.us_views.empty()) {
       us_anatomy = std::make_unique<us::UltrasoundAnatomy>(us->anatomy);
+      template_cols = us->template_cols;
+      template_rows = us->template_rows;
+      plan = us->plan;
       us::UltrasoundSettings set = us->settings;
       set.width = set.height = opt.us_size;
       for (us::PlaneKind k : opt.us_views) imagers.push_back(std::make_unique<us::PlaneImager>(*us_anatomy, set, k));
@@ -187,6 +192,14 @@ void FrameRecorder::add_frame(const Snapshot& snap) {
         draw_isodose_rgb(gray, img.width, img.height, im.iso_segments, colour);
         std::swap(gray, colour);
         channels = 3;
+      }
+      // the template's labelled grid on the transverse plane (the imager drew its crosses)
+      if (im.template_cols > 0 && im.imagers[v]->kind() == us::PlaneKind::Transverse && im.imagers[v]->settings().overlays) {
+        const HoleMarks marks =
+            transverse_hole_marks(pixel_plane(*im.imagers[v], im.probe_view),
+                                  template_holes_from_draw(snap.draw, im.template_cols, im.template_rows, im.probe_view.axis));
+        if (channels == 3) draw_template_rgb(gray, img.width, img.height, marks, im.template_cols, im.template_rows, im.plan);
+        else draw_template_gray(gray, img.width, img.height, marks, im.template_cols, im.template_rows, im.plan);
       }
       im.us_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       if (v == 0 && im.opt.views.empty() && im.thumbs.size() < 4 &&

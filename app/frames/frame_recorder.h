@@ -18,6 +18,7 @@
 
 #include "app/frames/frame_options.h"
 #include "app/frames/snapshot_dose.h"
+#include "app/frames/template_overlay.h"
 #include "engine/contract/snapshot.h"
 #include "engine/ultrasound/anatomy.h"
 #include "engine/ultrasound/settings.h"
@@ -32,6 +33,10 @@ namespace ps::frames {
 struct UltrasoundInput {
   us::UltrasoundAnatomy anatomy;
   us::UltrasoundSettings settings;
+  // a probe with a brachytherapy template (0 x 0: none): its labelled grid and the scene's planned
+  // holes are burnt into the transverse frames (template_overlay.h)
+  int template_cols = 0, template_rows = 0;
+  std::vector<PlannedHole> plan;
 };
 
 struct FrameSummary {

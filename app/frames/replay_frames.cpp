@@ -31,6 +31,11 @@ ReplayFramesResult replay_frames(const Scene& scene, LockstepRunner& run, int64_
     us = std::make_unique<UltrasoundInput>();
     us->anatomy = us::anatomy_for_scenario(scene.spec, *scene.model);
     us->settings = us::settings_for_probe(*scene.spec.probe);
+    if (scene.spec.probe->has_template) {
+      us->template_cols = scene.spec.probe->template_cols;
+      us->template_rows = scene.spec.probe->template_rows;
+      us->plan = planned_holes(scene.spec);
+    }
   }
   // a scene with seeds: the isodose surface and lines (a scene without a gland: none)
   std::unique_ptr<SnapshotDose> dose;

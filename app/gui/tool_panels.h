@@ -5,6 +5,7 @@
 #pragma once
 #include <vector>
 
+#include "app/gui/template_view.h"
 #include "engine/contract/snapshot.h"
 #include "engine/spec/scenario_spec.h"
 #include "engine/tools/tool_kind.h"
@@ -26,7 +27,13 @@ struct NeedlePanelState {
   int needle = 0;                  // selected needle index
   float speed_mm_s = 5.0f;         // advance speed [mm/s]
   int hole_col = -1, hole_row = -1;  // the template hole last picked (-1: none)
+  TemplateView grid;               // the template, its plan and what is implanted (template_view.h)
 };
+
+// Picks template hole (col, row), as the hole list, the plan list and a click on the transverse
+// image do: a hole with a planned needle of its own (preloaded with that hole's seeds) makes that
+// needle the active one; the active needle is then aimed along the hole (Session::aim_hole).
+void pick_template_hole(Session& s, NeedlePanelState& n, int col, int row);
 
 // What the panels keep between frames (reset when a scene is loaded or restarted).
 struct ToolPanelState {

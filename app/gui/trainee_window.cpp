@@ -24,6 +24,7 @@
 #include "app/gui/tool_panels.h"
 #include "app/gui/ultrasound_worker.h"
 #include "app/window/app_window.h"
+#include "engine/dosimetry/template_grid.h"
 #include "engine/metrics/session_metrics.h"
 #include "haptics/mouse_keyboard.h"
 #include "engine/util/error.h"
@@ -99,6 +100,13 @@ struct ClickScript {
     return pressed;
   }
   bool done() const { return next >= labels.size(); }
+  // "hole C3": a click on the transverse image at that template hole (no button: the TRUS panel
+  // says where it is shown, target())
+  const std::string* wanted() const { return next < labels.size() ? &labels[next] : nullptr; }
+  void target(ImVec2 p) {
+    at = p;
+    seen = true;
+  }
 };
 
 // The live biplane TRUS images: a worker thread forms them from snapshots (ultrasound_worker.h),
@@ -112,6 +120,7 @@ struct UsPanel {
   bool have = false;
   float gain_db = 0.0f, depth_mm = 60.0f, freq_mhz = 7.5f;  // the knobs (sliders)
   bool lesions = true, toggle_lesions = false;               // fused MRI contour of the lesions (M)
+  bool zoom = true;                  // the transverse image zoomed on the template (a scene with one)
   // isodose lines of both planes (us_isodose.h), traced on this thread from the dose worker's
   // newest grid whenever it or the image changed
   std::vector<dosimetry::IsoSegment> iso[2];
@@ -123,7 +132,8 @@ struct UsPanel {
   }
 };
 
-void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width, const dosimetry::DoseField* dose) {
+void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width, const dosimetry::DoseField* dose, NeedlePanelState& np,
+              ClickScript& clicks) {
   if (p.for_session != &s) {  // a new scene: a new worker for its anatomy
     p.worker.reset();
     p.have = false;
@@ -185,19 +195,60 @@ void us_panel(UsPanel& p, Session& s, const Snapshot& snap, float width, const d
     p.iso_field = dose;
     p.iso_time = p.frame.time;
   }
+  // the template (a brachytherapy scene): its holes where they cross the transverse plane; with
+  // "zoom on template" the transverse image shows the part around the grid, as a brachytherapy
+  // TRUS is set up, instead of the whole 140 degree sector
+  np.grid.update(s, snap);
+  const bool grid = np.grid.has_template();
+  const frames::HoleMarks marks = grid ? frames::transverse_hole_marks(p.frame.plane[0], np.grid.holes) : frames::HoleMarks{};
   for (int k = 0; k < 2; ++k) {
     if (k) ImGui::SameLine(0.0f, 8.0f);
-    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(p.tex[k])), ImVec2(side, side));
-    const ImVec2 o = ImGui::GetItemRectMin();
-    const float sc = side / static_cast<float>(std::max(1, p.frame.side));
+    const ImVec2 o = ImGui::GetCursorScreenPos();
+    const frames::ImageCrop crop = k == 0 && grid && p.zoom ? frames::template_crop(marks, p.frame.side, o.x, o.y, side)
+                                                            : frames::whole_image(p.frame.side, o.x, o.y, side);
+    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(p.tex[k])), ImVec2(side, side),
+                 ImVec2(static_cast<float>(crop.u0()), static_cast<float>(crop.v0())), ImVec2(static_cast<float>(crop.u1()), static_cast<float>(crop.v1())));
+    const bool hovered = ImGui::IsItemHovered();
     ImDrawList* dl = ImGui::GetWindowDrawList();
+    dl->PushClipRect(ImGui::GetItemRectMin(), ImGui::GetItemRectMax(), true);
+    auto at = [&](float x, float y) {
+      const frames::ImagePoint v = crop.to_view({x, y});
+      return ImVec2(static_cast<float>(v.x), static_cast<float>(v.y));
+    };
     for (const dosimetry::IsoSegment& g : p.iso[k]) {
       const auto& c = frames::kIsodoseRgb[std::min<size_t>(g.level, frames::kIsodoseRgb.size() - 1)];
-      dl->AddLine(ImVec2(o.x + (g.x0 + 0.5f) * sc, o.y + (g.y0 + 0.5f) * sc), ImVec2(o.x + (g.x1 + 0.5f) * sc, o.y + (g.y1 + 0.5f) * sc),
-                  IM_COL32(c[0], c[1], c[2], 255), 1.5f);
+      dl->AddLine(at(g.x0, g.y0), at(g.x1, g.y1), IM_COL32(c[0], c[1], c[2], 255), 1.5f);
     }
+    if (grid && k == 0) {
+      draw_transverse_template(dl, np.grid, marks, crop, np.hole_col, np.hole_row);
+      if (const std::string* w = clicks.wanted(); w && w->rfind("hole ", 0) == 0)
+        if (const auto cr = dosimetry::parse_template_hole(w->substr(5), np.grid.cols, np.grid.rows))
+          for (size_t i = 0; i < marks.holes.size(); ++i)
+            if (marks.holes[i].col == cr->first && marks.holes[i].row == cr->second) {
+              const frames::ImagePoint v = crop.to_view(marks.at[i]);
+              clicks.target(ImVec2(static_cast<float>(v.x), static_cast<float>(v.y)));
+            }
+      // a click picks the hole nearest to it (within half a spacing) as the panel's list does
+      if (hovered) {
+        const ImVec2 m = ImGui::GetIO().MousePos;
+        const frames::ImagePoint px = crop.to_image(m.x, m.y);
+        const int h = frames::pick_hole(marks, px.x, px.y);
+        if (h >= 0) {
+          const frames::TemplateHole& th = marks.holes[h];
+          ImGui::SetTooltip("%s", dosimetry::template_hole_label(th.col, th.row).c_str());
+          if (ImGui::IsMouseClicked(0) && s.needle_count() > 0) pick_template_hole(s, np, th.col, th.row);
+        }
+      }
+    }
+    if (grid && k == 1) draw_sagittal_plan(dl, np.grid, p.frame.plane[1], crop, np.hole_col, np.hole_row);
+    dl->PopClipRect();
   }
-  ImGui::TextDisabled("transverse (R on left)   sagittal (base on left)");
+  if (grid) {
+    ImGui::TextDisabled("transverse (R on left; click a hole to aim)   sagittal (base on left)");
+    ImGui::Checkbox("zoom on template", &p.zoom);
+  } else {
+    ImGui::TextDisabled("transverse (R on left)   sagittal (base on left)");
+  }
   if (dose) ImGui::TextDisabled("isodose 50/100/150/200 %%: blue, red, yellow, magenta");
   ImGui::TextDisabled("t = %.3f s, both planes %.0f ms (worker thread)", p.frame.time, p.frame.ms);
   // gain, depth, frequency: the worker rebuilds its imager for them before its next image
@@ -304,6 +355,7 @@ void reset_view(Ui& ui, Session& s) {
   ui.depth_mm.clear();
   ui.force_n.clear();
   ui.panels.needle.needle = 0;
+  ui.panels.needle.hole_col = ui.panels.needle.hole_row = -1;
 }
 
 // force versus depth, drawn with ImDrawList (ImPlot is not packaged)
@@ -524,7 +576,7 @@ void instruments_panel(Ui& ui, Session& s, const Snapshot& snap, ClickScript& cl
 
 // The right panel: force versus depth, the TRUS planes, metrics, dosimetry, instrument read-outs,
 // timing and the event log.
-void readouts_panel(Ui& ui, Session& s, const Snapshot& snap, UsPanel& us, DosePanel& dose, ImVec2 ds) {
+void readouts_panel(Ui& ui, Session& s, const Snapshot& snap, UsPanel& us, DosePanel& dose, ClickScript& clicks, ImVec2 ds) {
   ImGui::SetNextWindowPos(ImVec2(ds.x - kRightPanel, 0));
   ImGui::SetNextWindowSize(ImVec2(kRightPanel, ds.y));
   ImGui::Begin("Read-outs", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
@@ -533,7 +585,7 @@ void readouts_panel(Ui& ui, Session& s, const Snapshot& snap, UsPanel& us, DoseP
     if (needles) force_plot(ui, ImVec2(kRightPanel - 20, 190));
     else ImGui::TextDisabled("no needle in this scene");
   }
-  if (ImGui::CollapsingHeader("Ultrasound", ImGuiTreeNodeFlags_DefaultOpen)) us_panel(us, s, snap, kRightPanel - 20, dose.field());
+  if (ImGui::CollapsingHeader("Ultrasound", ImGuiTreeNodeFlags_DefaultOpen)) us_panel(us, s, snap, kRightPanel - 20, dose.field(), ui.panels.needle, clicks);
   if (ImGui::CollapsingHeader("Metrics", ImGuiTreeNodeFlags_DefaultOpen)) metrics_panel(s, snap);
   if (ImGui::CollapsingHeader("Dosimetry", ImGuiTreeNodeFlags_DefaultOpen)) dose_panel(dose, s, snap, kRightPanel - 20);
   draw_tool_readouts(s, snap, ui.panels);
@@ -662,7 +714,7 @@ int run_window(app::RunSession& run) {
         return false;
       }
     };
-    int frame = 0, us_wait = 0;
+    int frame = 0, us_wait = 0, click_wait = 0;
     PendingSwitch next;
     auto last = std::chrono::steady_clock::now();
     bool up_held = false, down_held = false;
@@ -680,13 +732,17 @@ int run_window(app::RunSession& run) {
 
       const ImVec2 ds = io.DisplaySize;
       instruments_panel(ui, s, snap, clicks, next, ds);
-      readouts_panel(ui, s, snap, us, dose, ds);
+      readouts_panel(ui, s, snap, us, dose, clicks, ds);
       if (ui.help) help_overlay(ui);
       if (snap.faulted) fault_overlay(ui, s, snap, clicks, ds);
 
       // the 3D view between the panels
       const float vx = kLeftPanel, vw = std::max(1.0f, ds.x - kLeftPanel - kRightPanel), vh = ds.y;
       if (!io.WantCaptureMouse) handle_view_mouse(ui, s, io, vh);
+      const render::Camera cam = render::preset_camera(ui.view, s.renderer().scene(), &snap, ui.orbit);
+      // the template's labels and the plan's needles over the 3D view (under the panels)
+      draw_template_3d(ImGui::GetBackgroundDrawList(), ui.panels.needle.grid, cam.projection(vw / vh) * cam.view(), vx, 0.0f, vw, vh,
+                       ui.panels.needle.hole_col, ui.panels.needle.hole_row);
       ImGui::Render();
       int fbw = 0, fbh = 0;
       win->clear_framebuffer(fbw, fbh);
@@ -699,11 +755,17 @@ int run_window(app::RunSession& run) {
       ui.ropt.viewport_x = static_cast<int>(vx * sx);
       ui.ropt.viewport_y = 0;
       ui.ropt.title = s.name() + "  [" + render::view_name(ui.view) + "]" + (ui.paused ? "  PAUSED" : "");
-      s.renderer().render(render::preset_camera(ui.view, s.renderer().scene(), &snap, ui.orbit), static_cast<int>(vw * sx),
-                          static_cast<int>(vh * sy), ui.ropt);
+      s.renderer().render(cam, static_cast<int>(vw * sx), static_cast<int>(vh * sy), ui.ropt);
       win->draw_imgui();
       ++frame;
       bool ending = win->should_close() || (s.end_tick() >= 0 && snap.tick >= s.end_tick());
+      // scripted clicks (PROSTATESIM_CLICKS) are made before the end (up to ~10 s more: a click on
+      // the TRUS image waits for its first image)
+      if (ending && !clicks.done() && !win->should_close() && click_wait < 1000) {
+        ending = false;
+        ++click_wait;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      }
       // a screenshot waits (up to ~5 s) for the first ultrasound image from the worker thread
       if (ending && !screenshot.empty() && !win->should_close() && us.worker && !us.have && us_wait < 500) {
         ending = false;

@@ -88,6 +88,9 @@ void UltrasoundWorker::run() {
     us::probe_view_from_snapshot(working_, probe_);  // no probe drawn: keeps the last pose
     us::scene_from_snapshot(working_, probe_, scene_);
     imager_->render(scene_);
+    // every frame says its size: the frames circulate between this thread and the UI by swaps,
+    // and the UI's first (empty, size 0) comes back here to be refilled
+    img.side = imager_->transverse().image().width;
     img.transverse = imager_->transverse().image().pixels;
     img.sagittal = imager_->sagittal().image().pixels;
     img.plane[0] = frames::pixel_plane(imager_->transverse(), probe_);

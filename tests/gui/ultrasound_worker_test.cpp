@@ -75,5 +75,25 @@ TEST(UltrasoundWorker, KnobsChangeTheNextImageAndBadValuesAreRefused) {
   EXPECT_EQ(w.controls().depth_m, 0.040);
 }
 
+// The window takes every image into the same UsFrame; the frames go back and forth between the
+// worker and the window by swaps, so each must carry its own size (the window sizes the texture
+// upload, the isodose lines and the template's marks by it). A frame of size 0 once came back
+// every third image: the panel then skipped the upload and drew the overlays at the wrong scale.
+TEST(UltrasoundWorker, EveryImageTakenIntoTheSameFrameCarriesItsSize) {
+  Scene scene = load_scene(PROSTATESIM_SOURCE_DIR "/config/biopsy.yaml");
+  LockstepRunner run(*scene.sim);
+  const Snapshot snap = run.snapshot();
+  UltrasoundWorker w(scene, 96);
+  UsFrame f;  // reused, as UsPanel::frame
+  for (int i = 0; i < 5; ++i) {
+    w.submit(snap);
+    bool got = false;
+    for (int k = 0; k < 3000 && !(got = w.take(f)); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    ASSERT_TRUE(got) << "image " << i;
+    EXPECT_EQ(f.side, 96) << "image " << i;
+    EXPECT_EQ(f.transverse.size(), 96u * 96u) << "image " << i;
+  }
+}
+
 }  // namespace
 }  // namespace ps::gui
