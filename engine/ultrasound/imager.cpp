@@ -7,6 +7,9 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 #include "engine/ultrasound/speckle.h"
 #include "engine/util/multiversion.h"
@@ -133,9 +136,20 @@ __attribute__((always_inline)) inline void iq_power(const float* __restrict EQ, 
     const float* e = EQ + 2 * static_cast<size_t>(lut_i[k]);
     const float wb = lut_wb[k], wk = lut_wk[k];
     const float w00 = (1 - wk) * (1 - wb), w01 = (1 - wk) * wb, w10 = wk * (1 - wb), w11 = wk * wb;
+#if defined(__SSE2__)
+    // (re, im) of both beams of a row in one load; the sums in the scalar order below
+    const __m128 a = _mm_mul_ps(_mm_loadu_ps(e), _mm_set_ps(w01, w01, w00, w00));
+    const __m128 b = _mm_mul_ps(_mm_loadu_ps(e + row), _mm_set_ps(w11, w11, w10, w10));
+    __m128 v = _mm_add_ps(a, _mm_movehl_ps(a, a));  // w00 e00 + w01 e01
+    v = _mm_add_ps(v, b);                           // + w10 e10
+    v = _mm_add_ps(v, _mm_movehl_ps(b, b));         // + w11 e11
+    const __m128 sq = _mm_mul_ps(v, v);
+    mag2[k] = _mm_cvtss_f32(_mm_add_ss(sq, _mm_shuffle_ps(sq, sq, 1)));
+#else
     const float er = w00 * e[0] + w01 * e[2] + w10 * e[row] + w11 * e[row + 2];
     const float ei = w00 * e[1] + w01 * e[3] + w10 * e[row + 1] + w11 * e[row + 3];
     mag2[k] = er * er + ei * ei;
+#endif
   }
 }
 template <bool First>
@@ -304,6 +318,7 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
   T_.assign(ng, 1.0f);
   mark_.assign(ng, 1.0f);
   stop_.assign(ng, 0);
+  glab_.assign(ng, 255);
   gre_.assign(ng, 0.0f);
   gim_.assign(ng, 0.0f);
   gtr_.assign(ng, 0.0f);
@@ -789,6 +804,7 @@ void PlaneImager::scatter(const UltrasoundScene& sc, const PlaneFrame& f) {
   const bool vol_empty = vol.empty();
   const int vnx = vol.nx, vny = vol.ny, vnz = vol.nz;
   uint8_t* const stop = stop_.data();
+  uint8_t* const glab = glab_.data();
   float* const gre = gre_.data();
   float* const gim = gim_.data();
   float* const rq = row_q_.data();
@@ -823,8 +839,8 @@ void PlaneImager::scatter(const UltrasoundScene& sc, const PlaneFrame& f) {
     int nc = 0;
     for (int b = 0; b < NB; ++b) {
       const int p = samp_pix[row + b];
-      if (p < 0) continue;
-      const uint8_t lab = label[p];
+      const uint8_t lab = p >= 0 ? label[p] : uint8_t{255};
+      glab[row + b] = lab;  // transmission() reads them in grid order
       if (lab == 255) continue;
       const int c = lab & 63;
       const TissueAcoustics& ac = comp_ac[c];
@@ -1100,8 +1116,7 @@ void PlaneImager::transmission(const UltrasoundScene& sc, const PlaneFrame& f) {
   // row by row (contiguous in memory), each beam's running product in beam_T_: T(k) is the product
   // of the factors of the samples above k, in depth order
   const int NB = NB_, NS = NS_;
-  const int* const samp_pix = samp_pix_.data();
-  const uint8_t* const label = img_.label.data();
+  const uint8_t* const glab = glab_.data();  // the label of each sample (scatter())
   const uint8_t* const stop = stop_.data();
   const float* const mark = mark_.data();
   float* const Tb = beam_T_.data();
@@ -1110,8 +1125,7 @@ void PlaneImager::transmission(const UltrasoundScene& sc, const PlaneFrame& f) {
     for (int b = 0; b < NB; ++b) {
       const size_t g = static_cast<size_t>(k) * NB + b;
       T_[g] = Tb[b];
-      const int p = samp_pix[g];
-      const uint8_t lab = p >= 0 ? label[p] : uint8_t{255};
+      const uint8_t lab = glab[g];
       float a = lab == 255 ? soft : fac[lab >= 64 ? 128 : lab];
       if (stop[g]) a = calc;
       Tb[b] *= a * mark[g];

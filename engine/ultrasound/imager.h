@@ -152,6 +152,7 @@ class PlaneImager {
   std::vector<int> samp_pix_;         // nearest pixel of each sample, -1 outside the window
   std::vector<float> T_, mark_;       // transmitted amplitude; rod shadow marks
   std::vector<uint8_t> stop_;         // 1: a calcification (stops the beam like bone)
+  std::vector<uint8_t> glab_;         // label of each sample's pixel (255: none or outside the window)
   std::vector<float> gre_, gim_, gtr_, gti_;  // complex echo and scratch
   std::vector<float> eq_;             // [2 * (samples + NB + 1)] I/Q x transmission x calibration, interleaved (re, im)
   std::vector<int> rod_k_;            // [NB] per rod: shallowest depth sample where the beam meets it (NS: none)
