@@ -315,7 +315,6 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
   samp_s_.assign(ng, 0.0f);
   samp_t_.assign(ng, 0.0f);
   samp_pix_.assign(ng, -1);
-  T_.assign(ng, 1.0f);
   mark_.assign(ng, 1.0f);
   stop_.assign(ng, 0);
   glab_.assign(ng, 255);
@@ -327,6 +326,7 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
   rod_k_.assign(NB_, NS_);
   rod_m_.assign(NB_, 1.0f);
   beam_T_.assign(NB_, 1.0f);
+  marked_.reserve(4 * static_cast<size_t>(NB_));
   sc_.assign(14 * static_cast<size_t>(NB_), 0.0f);
   sci_.assign(3 * static_cast<size_t>(NB_), 0);
   scf_.assign(NB_, 0);
@@ -1052,7 +1052,8 @@ void PlaneImager::blur() {
 }
 
 void PlaneImager::transmission(const UltrasoundScene& sc, const PlaneFrame& f) {
-  std::fill(mark_.begin(), mark_.end(), 1.0f);
+  for (size_t g : marked_) mark_[g] = 1.0f;  // the entries the last frame's rods marked
+  marked_.clear();
   const double r = set_.convex_radius, D = set_.depth, h = 0.5 * set_.fov;
   const double sig_e = set_.slice_thickness / 2.355;
   // rods stop part of the beam that crosses them (seeds, needle: partial shadow). A beam loses
@@ -1102,7 +1103,11 @@ void PlaneImager::transmission(const UltrasoundScene& sc, const PlaneFrame& f) {
     // the echo of the rod's own depth sample stays; the shadow starts one resolution cell below
     const int below = std::max(1, static_cast<int>(std::ceil(psf_axial_fwhm() / dz_)));
     for (int b = 0; b < NB_; ++b)
-      if (rod_k_[b] + below < NS_) mark_[static_cast<size_t>(rod_k_[b] + below) * NB_ + b] *= rod_m_[b];  // rods in a row: each stops its part
+      if (rod_k_[b] + below < NS_) {
+        const size_t g = static_cast<size_t>(rod_k_[b] + below) * NB_ + b;
+        if (mark_[g] == 1.0f && rod_m_[b] != 1.0f) marked_.push_back(g);
+        mark_[g] *= rod_m_[b];  // rods in a row: each stops its part
+      }
   }
   // round-trip attenuation factor of one sample step, per label
   float fac[128 + 1];
@@ -1121,23 +1126,21 @@ void PlaneImager::transmission(const UltrasoundScene& sc, const PlaneFrame& f) {
   const float* const mark = mark_.data();
   float* const Tb = beam_T_.data();
   std::fill(Tb, Tb + NB, 1.0f);
+  // each echo source x the round trip to it, before the pulse spreads it (blur()): a reflector's
+  // echo keeps its whole pulse length, the part behind a bone surface included, and a shadow's
+  // edges are as soft as the beam is wide
+  float* const gre = gre_.data();
+  float* const gim = gim_.data();
   for (int k = 0; k < NS; ++k)
     for (int b = 0; b < NB; ++b) {
       const size_t g = static_cast<size_t>(k) * NB + b;
-      T_[g] = Tb[b];
+      gre[g] *= Tb[b];
+      gim[g] *= Tb[b];
       const uint8_t lab = glab[g];
       float a = lab == 255 ? soft : fac[lab >= 64 ? 128 : lab];
       if (stop[g]) a = calc;
       Tb[b] *= a * mark[g];
     }
-  // each echo source x the round trip to it, before the pulse spreads it (blur()): a reflector's
-  // echo keeps its whole pulse length, the part behind a bone surface included, and a shadow's
-  // edges are as soft as the beam is wide
-  const size_t ng = static_cast<size_t>(NS) * NB;
-  for (size_t g = 0; g < ng; ++g) {
-    gre_[g] *= T_[g];
-    gim_[g] *= T_[g];
-  }
 }
 
 void PlaneImager::calibrate() {

@@ -150,7 +150,8 @@ class PlaneImager {
   double dz_ = 0, dbeam_ = 0;         // sample spacing [m]; beam spacing [rad] (transverse) or [m] (sagittal)
   std::vector<float> samp_s_, samp_t_;  // plane coordinates of each sample [m]
   std::vector<int> samp_pix_;         // nearest pixel of each sample, -1 outside the window
-  std::vector<float> T_, mark_;       // transmitted amplitude; rod shadow marks
+  std::vector<float> mark_;           // rod shadow marks (1: none)
+  std::vector<size_t> marked_;        // the entries of mark_ not 1, reset before the next frame's rods
   std::vector<uint8_t> stop_;         // 1: a calcification (stops the beam like bone)
   std::vector<uint8_t> glab_;         // label of each sample's pixel (255: none or outside the window)
   std::vector<float> gre_, gim_, gtr_, gti_;  // complex echo and scratch

@@ -11,7 +11,10 @@
 // assumption, imager.h), so no refraction or range distortion is modelled. Seminal vesicles: on TRUS
 // hypoechoic to the gland with a mottled inside (fluid in convoluted tubules between echogenic
 // folds; Halpern 2008) and a thin wall: echo 0.25 with a +-50 % texture, attenuation 0.3 (mostly
-// fluid, between urine and soft tissue).
+// fluid, between urine and soft tissue). Interfaces: amplitude reflection (Z2 - Z1) / (Z2 + Z1) with
+// Z = 1.63 (soft tissue), 1.38 (fat), 7.8 MRayl (cortical bone; Duck 1990): ~0.08 at the capsule,
+// ~0.65 at bone, so bone's specular term is ten times the capsule's (3.0): its surface is the
+// brightest line on the image, as a sonographer expects of the pubic bone.
 #include "engine/ultrasound/scene.h"
 
 namespace ps::us {
@@ -22,7 +25,7 @@ const TissueAcoustics& acoustics(Tissue t) {
   static const TissueAcoustics kFat{1.5f, 0.8f, 0.63f, 0.0f, 0.0f, 0.0f, 0.0f};
   static const TissueAcoustics kBladder{0.0f, 0.0f, 0.0022f, 4.0f, 1.0f, 2.0e-3f, 0.8f};
   static const TissueAcoustics kRectum{0.0f, 0.0f, 0.0022f, 2.0f, 1.2f, 3.0e-3f, 0.35f};
-  static const TissueAcoustics kBone{0.0f, 0.0f, 15.0f, 10.0f, 4.0f, 0.0f, 0.0f};
+  static const TissueAcoustics kBone{0.0f, 0.0f, 15.0f, 30.0f, 4.0f, 0.0f, 0.0f};
   static const TissueAcoustics kGas{0.0f, 0.0f, 80.0f, 12.0f, 6.0f, 0.0f, 0.0f};
   static const TissueAcoustics kSeminalVesicle{0.25f, 0.5f, 0.3f, 0.6f, 0.4f, 0.0f, 0.0f};
   static const TissueAcoustics kSoft{1.0f, 0.0f, 0.6f, 0.8f, 0.4f, 0.0f, 0.0f};
