@@ -327,7 +327,7 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
   rod_m_.assign(NB_, 1.0f);
   beam_T_.assign(NB_, 1.0f);
   marked_.reserve(4 * static_cast<size_t>(NB_));
-  sc_.assign(14 * static_cast<size_t>(NB_), 0.0f);
+  sc_.assign(14 * static_cast<size_t>(std::max(NB_, (W_ - 1) / kTexStep + 2)), 0.0f);  // also texture()'s 3 rows of tx_
   sci_.assign(3 * static_cast<size_t>(NB_), 0);
   scf_.assign(NB_, 0);
   for (int k = 0; k < NS_; ++k)
@@ -754,7 +754,10 @@ void PlaneImager::texture(const PlaneFrame& f) {
   const size_t nodes = static_cast<size_t>(gx_) * gy_;
   const float invT = 1.0f / kTextureScale;
   const float* all = &field_[an_.components.size() * nodes * 4];
-  for (int tb = 0; tb < ty_; ++tb)
+  float* const X0 = sc_.data();  // scatter()'s row scratch, free before it runs
+  float* const X1 = X0 + tx_;
+  float* const X2 = X1 + tx_;
+  for (int tb = 0; tb < ty_; ++tb) {
     for (int ta = 0; ta < tx_; ++ta) {
       const double s = pixel_s(ta * kTexStep), t = pixel_t(tb * kTexStep);
       const Vec3 xw = f.origin + s * f.right + t * f.up;
@@ -767,8 +770,10 @@ void PlaneImager::texture(const PlaneFrame& f) {
       float X[3];
       for (int d = 0; d < 3; ++d)
         X[d] = static_cast<float>(xw[d]) - ((1 - wa) * (1 - wb) * n00[d] + wa * (1 - wb) * n10[d] + (1 - wa) * wb * n01[d] + wa * wb * n11[d]);
-      tex_[static_cast<size_t>(tb) * tx_ + ta] = texture_noise(X[0] * invT, X[1] * invT, X[2] * invT);
+      X0[ta] = X[0], X1[ta] = X[1], X2[ta] = X[2];
     }
+    texture_row(X0, X1, X2, invT, &tex_[static_cast<size_t>(tb) * tx_], tx_);
+  }
 }
 
 void PlaneImager::scatter(const UltrasoundScene& sc, const PlaneFrame& f) {

@@ -89,4 +89,35 @@ void lattice_row(const float* X0, const float* X1, const float* X2, const float*
   lattice_loop(X0, X1, X2, R1, R2, inv_step, q, q + stride, q + 2 * stride, q + 3 * stride, q + 4 * stride, q + 5 * stride, n);
 }
 
+namespace {
+__attribute__((always_inline)) inline float texture_value(int32_t a, int32_t b, int32_t c) {  // as texture_noise()
+  return static_cast<float>(mix(static_cast<uint32_t>(a) * 0x27d4eb2dU ^ static_cast<uint32_t>(b) * 0x165667b1U ^
+                                static_cast<uint32_t>(c) * 0xd3a2646cU) >> 8) * (1.0f / 16777216.0f);
+}
+__attribute__((always_inline)) inline void texture_loop(const float* __restrict X0, const float* __restrict X1,
+                                                        const float* __restrict X2, float inv_scale, float* __restrict out, int n) {
+  for (int p = 0; p < n; ++p) {
+    const float x = X0[p] * inv_scale, y = X1[p] * inv_scale, z = X2[p] * inv_scale;
+    int32_t i = static_cast<int32_t>(x), j = static_cast<int32_t>(y), k = static_cast<int32_t>(z);
+    i -= x < static_cast<float>(i);  // floor
+    j -= y < static_cast<float>(j);
+    k -= z < static_cast<float>(k);
+    float u = x - static_cast<float>(i), v = y - static_cast<float>(j), w = z - static_cast<float>(k);
+    u = u * u * (3 - 2 * u);
+    v = v * v * (3 - 2 * v);
+    w = w * w * (3 - 2 * w);
+    const float c00 = texture_value(i, j, k) * (1 - u) + texture_value(i + 1, j, k) * u;
+    const float c10 = texture_value(i, j + 1, k) * (1 - u) + texture_value(i + 1, j + 1, k) * u;
+    const float c01 = texture_value(i, j, k + 1) * (1 - u) + texture_value(i + 1, j, k + 1) * u;
+    const float c11 = texture_value(i, j + 1, k + 1) * (1 - u) + texture_value(i + 1, j + 1, k + 1) * u;
+    out[p] = ((c00 * (1 - v) + c10 * v) * (1 - w) + (c01 * (1 - v) + c11 * v) * w);
+  }
+}
+}  // namespace
+
+PS_TARGET_CLONES("avx2", "default") PS_OPTIMIZE_O3
+void texture_row(const float* X0, const float* X1, const float* X2, float inv_scale, float* out, int n) {
+  texture_loop(X0, X1, X2, inv_scale, out, n);
+}
+
 }  // namespace ps::us

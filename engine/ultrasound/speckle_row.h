@@ -13,6 +13,10 @@ namespace ps::us {
 void lattice_row(const float* X0, const float* X1, const float* X2, const float* R1, const float* R2, float inv_step,
                  float* q, size_t stride, int n);
 
+// texture_noise() (speckle.h) of n rest points X / scale (X0, X1, X2 [m], inv_scale [1/m]) into out,
+// the same values, vectorised.
+void texture_row(const float* X0, const float* X1, const float* X2, float inv_scale, float* out, int n);
+
 void speckle_row(const float* qx, const float* qy, const float* qz, const float* amp, float* re, float* im, int n, bool add);
 
 }  // namespace ps::us
