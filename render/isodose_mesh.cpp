@@ -32,20 +32,7 @@ void Renderer::set_isodose(const dosimetry::IsoSurface& s, Rgba colour) {
   idx.reserve(3 * s.faces.size());
   for (const auto& f : s.faces)
     for (int k = 0; k < 3; ++k) idx.push_back(static_cast<uint32_t>(f[k]));
-  if (!sg.vao) {
-    api.GenVertexArrays(1, &sg.vao);
-    api.GenBuffers(1, &sg.vbo);
-    api.GenBuffers(1, &sg.ibo);
-    api.BindVertexArray(sg.vao);
-    api.BindBuffer(GL_ARRAY_BUFFER, sg.vbo);
-    api.EnableVertexAttribArray(0);
-    api.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), nullptr);
-    api.EnableVertexAttribArray(1);
-    api.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
-    api.EnableVertexAttribArray(2);
-    api.VertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, 7 * sizeof(float), reinterpret_cast<void*>(6 * sizeof(float)));
-    api.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, sg.ibo);
-  }
+  if (!sg.vao) Gpu::init_surface(sg);
   api.BindVertexArray(sg.vao);
   api.BindBuffer(GL_ARRAY_BUFFER, sg.vbo);
   if (sg.vertices.size() > g.isodose_vbo_floats) {

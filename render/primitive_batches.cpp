@@ -22,6 +22,21 @@ void frame_matrix(const Vec3& origin, const Vec3& axis, double rx, double rz, fl
   m[15] = 1.0f;
 }
 
+void Renderer::Gpu::init_surface(SurfaceGpu& sg) {
+  api.GenVertexArrays(1, &sg.vao);
+  api.GenBuffers(1, &sg.vbo);
+  api.GenBuffers(1, &sg.ibo);
+  api.BindVertexArray(sg.vao);
+  api.BindBuffer(GL_ARRAY_BUFFER, sg.vbo);
+  api.EnableVertexAttribArray(0);
+  api.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), nullptr);
+  api.EnableVertexAttribArray(1);
+  api.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
+  api.EnableVertexAttribArray(2);
+  api.VertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, 7 * sizeof(float), reinterpret_cast<void*>(6 * sizeof(float)));
+  api.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, sg.ibo);
+}
+
 void Renderer::Gpu::init_batch(PrimitiveBatch& b, const PrimitiveMesh& mesh) {
   api.GenVertexArrays(1, &b.vao);
   api.GenBuffers(1, &b.vbo);

@@ -112,6 +112,9 @@ struct Renderer::Gpu : DrawSink {
 
   // the GPU side of a batch: the primitive's mesh, an instance buffer of 256 to begin with
   void init_batch(PrimitiveBatch& b, const PrimitiveMesh& mesh);
+  // a surface's vertex array: position, normal, displacement interleaved (SurfaceGpu::vertices);
+  // leaves it bound with its vertex and index buffers (their data is the caller's)
+  static void init_surface(SurfaceGpu& sg);
   // uploads this frame's instances (growing the buffer when they outgrow it) and draws them
   void draw_batch(PrimitiveBatch& b);
 

@@ -45,20 +45,9 @@ Renderer::Renderer(RenderScene scene) : scene_(std::move(scene)), gpu_(std::make
     for (size_t v = 0; v < nv; ++v)
       for (int k = 0; k < 3; ++k)
         sg.positions[3 * v + k] = sg.vertices[7 * v + k] = rs.carry_particles.empty() ? scene_.rest[3 * rs.particles[v] + k] : rs.carry_rest[3 * v + k];
-    api.GenVertexArrays(1, &sg.vao);
-    api.GenBuffers(1, &sg.vbo);
-    api.GenBuffers(1, &sg.ibo);
-    api.BindVertexArray(sg.vao);
-    api.BindBuffer(GL_ARRAY_BUFFER, sg.vbo);
+    Gpu::init_surface(sg);
     // sized once: update() only overwrites it
     api.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(sg.vertices.size() * sizeof(float)), sg.vertices.data(), GL_DYNAMIC_DRAW);
-    api.EnableVertexAttribArray(0);
-    api.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), nullptr);
-    api.EnableVertexAttribArray(1);
-    api.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
-    api.EnableVertexAttribArray(2);
-    api.VertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, 7 * sizeof(float), reinterpret_cast<void*>(6 * sizeof(float)));
-    api.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, sg.ibo);
     api.BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(rs.indices.size() * sizeof(uint32_t)), rs.indices.data(), GL_STATIC_DRAW);
     sg.index_count = static_cast<int>(rs.indices.size());
   }

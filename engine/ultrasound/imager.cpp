@@ -449,7 +449,7 @@ PlaneImager::PlaneImager(const UltrasoundAnatomy& anatomy, const UltrasoundSetti
         const size_t g = static_cast<size_t>(k) * NB_ + b;
         const float X[3] = {0.0311f + samp_s_[g] * e1[0] + samp_t_[g] * e2[0], 0.0417f + samp_s_[g] * e1[1] + samp_t_[g] * e2[1],
                             -0.0213f + samp_s_[g] * e1[2] + samp_t_[g] * e2[2]};
-        lattice_coords(X, b);
+        store_rest_point(X, b);
         row_q_[6 * NB_ + b] = 1.0f;
       }
       speckle(NB_, &gre_[static_cast<size_t>(k) * NB_], &gim_[static_cast<size_t>(k) * NB_]);
@@ -930,7 +930,7 @@ void PlaneImager::scatter(const UltrasoundScene& sc, const PlaneFrame& f) {
   }
 }
 
-void PlaneImager::lattice_coords(const float* X, int a) {
+void PlaneImager::store_rest_point(const float* X, int a) {
   const size_t n = static_cast<size_t>(NB_);
   row_q_[9 * n + a] = X[0];
   row_q_[10 * n + a] = X[1];

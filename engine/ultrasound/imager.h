@@ -112,7 +112,7 @@ class PlaneImager {
   void coherent_rods(const UltrasoundScene& sc, const PlaneFrame& f);
   void reverberation();
   // rest point X [m] into slot a of row_q_ (speckle() turns it into both lattices' coordinates)
-  void lattice_coords(const float* X, int a);
+  void store_rest_point(const float* X, int a);
   // complex scatterer field of the na slots of row_q_ (x their amplitude) into re, im
   void speckle(int na, float* re, float* im);
   // adds a coherent echo at plane point (s, t) [m] of amplitude `amp` per lateral sample

@@ -12,23 +12,17 @@
 
 #include "engine/realtime/lockstep.h"
 #include "engine/sim/scene.h"
+#include "tests/gui/worker_wait.h"
 
 namespace ps::gui {
 namespace {
-
-DoseFrame next_frame(DoseWorker& w, const Snapshot& snap) {
-  DoseFrame f;
-  w.submit(snap);
-  for (int k = 0; k < 3000 && !w.take(f); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  return f;
-}
 
 TEST(DoseWorker, SeedsGiveIndicesAGridAndThePrescriptionSurface) {
   Scene scene = load_scene(PROSTATESIM_SOURCE_DIR "/config/brachytherapy.yaml");
   LockstepRunner run(*scene.sim);
   Snapshot snap = run.snapshot();
   DoseWorker w(scene);
-  const DoseFrame none = next_frame(w, snap);
+  const DoseFrame none = test::next_frame<DoseFrame>(w, snap);
   ASSERT_TRUE(none.ready);
   EXPECT_EQ(none.seeds, 0);
   ASSERT_TRUE(none.surface);
@@ -40,7 +34,7 @@ TEST(DoseWorker, SeedsGiveIndicesAGridAndThePrescriptionSurface) {
     snap.draw.capsules.push_back({c - Vec3(0, 0, 0.00225), c + Vec3(0, 0, 0.00225), 0.0004, Rgba{}, DrawRole::Seed});
   }
   snap.tick += 100;
-  const DoseFrame f = next_frame(w, snap);
+  const DoseFrame f = test::next_frame<DoseFrame>(w, snap);
   ASSERT_TRUE(f.ready);
   EXPECT_EQ(f.seeds, 12);
   ASSERT_TRUE(f.field && f.surface);

@@ -12,17 +12,10 @@
 #include "engine/realtime/lockstep.h"
 #include "engine/sim/scene.h"
 #include "engine/util/error.h"
+#include "tests/gui/worker_wait.h"
 
 namespace ps::gui {
 namespace {
-
-// waits (up to 30 s) for the worker's next image of `snap`
-UsFrame next_frame(UltrasoundWorker& w, const Snapshot& snap) {
-  UsFrame f;
-  w.submit(snap);
-  for (int k = 0; k < 3000 && !w.take(f); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  return f;
-}
 
 // mean gray of `v` over the pixels where `ref` is not black (in the field of view, not shadowed)
 double mean_where_lit(const std::vector<uint8_t>& v, const std::vector<uint8_t>& ref) {
@@ -41,14 +34,14 @@ TEST(UltrasoundWorker, KnobsChangeTheNextImageAndBadValuesAreRefused) {
   const UsControls c0 = w.controls();
   EXPECT_EQ(c0.gain_db, 0.0);
   EXPECT_NEAR(c0.depth_m, 0.060, 1e-12);
-  const UsFrame base = next_frame(w, snap);
+  const UsFrame base = test::next_frame<UsFrame>(w, snap);
   ASSERT_EQ(base.transverse.size(), 128u * 128u);
   ASSERT_EQ(base.sagittal.size(), 128u * 128u);
 
   UsControls c = c0;
   c.gain_db = 12.0;
   w.set_controls(c);
-  const UsFrame brighter = next_frame(w, snap);
+  const UsFrame brighter = test::next_frame<UsFrame>(w, snap);
   ASSERT_EQ(brighter.transverse.size(), 128u * 128u);
   // +12 dB over a 60 dB range is +51 gray levels where nothing saturates: the mean rises by tens
   for (auto im : {&UsFrame::transverse, &UsFrame::sagittal}) {
@@ -60,7 +53,7 @@ TEST(UltrasoundWorker, KnobsChangeTheNextImageAndBadValuesAreRefused) {
   c.gain_db = 0.0;
   c.depth_m = 0.040;  // shallower: the gland fills more of the picture, the image differs
   w.set_controls(c);
-  const UsFrame shallow = next_frame(w, snap);
+  const UsFrame shallow = test::next_frame<UsFrame>(w, snap);
   EXPECT_NE(shallow.transverse, base.transverse);
 
   UsControls bad = c;

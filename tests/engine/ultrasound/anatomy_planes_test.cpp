@@ -20,13 +20,7 @@ namespace {
 using us::PlaneImager;
 using us::PlaneKind;
 
-us::UltrasoundScene scene_of(const std::vector<float>& x, const us::ProbeView& probe) {
-  us::UltrasoundScene sc;
-  sc.x = x.data();
-  sc.particle_count = static_cast<int>(x.size() / 3);
-  sc.probe = probe;
-  return sc;
-}
+using test::scene_of;
 
 // the scenario's own initial probe pose (us_biopsy_scene().probe is the pose the older tests were
 // written for)
@@ -184,16 +178,26 @@ NearEdge near_edge(const us::UltrasoundAnatomy& an, const us::UltrasoundSettings
   return r;
 }
 
+// The edge of `tissue` nearest the probe in the sagittal image, through the smoothed surfaces (the
+// scene's anatomy) and through the particle triangles (no subdivision); and the pixel size [m].
+struct EdgePair {
+  NearEdge smooth, poly;
+  double px;
+};
+EdgePair edges_smooth_and_coarse(const std::vector<float>& x, const us::ProbeView& pose, us::Tissue tissue) {
+  const auto& S = test::us_biopsy_scene();
+  us::AnatomyOptions coarse_opt;
+  coarse_opt.smooth_subdivisions = 0;
+  const us::UltrasoundAnatomy coarse = us::build_anatomy(*S.model, coarse_opt);
+  return {near_edge(S.anatomy, S.settings, x, pose, tissue), near_edge(coarse, S.settings, x, pose, tissue),
+          PlaneImager(S.anatomy, S.settings, PlaneKind::Sagittal).image().pixel};
+}
+
 TEST(UltrasoundAnatomyPlanes, BladderEdgeIsCurvedInTheSagittalPlane) {
   const auto& S = test::us_biopsy_scene();
   const std::vector<float> x = test::rest_positions(*S.model);
   const us::ProbeView pose = test::moved_probe(default_pose(), 0.012, 0.0);  // further in: more bladder in view
-  us::AnatomyOptions coarse_opt;
-  coarse_opt.smooth_subdivisions = 0;
-  const us::UltrasoundAnatomy coarse = us::build_anatomy(*S.model, coarse_opt);
-  const NearEdge smooth = near_edge(S.anatomy, S.settings, x, pose, us::Tissue::Bladder);
-  const NearEdge poly = near_edge(coarse, S.settings, x, pose, us::Tissue::Bladder);
-  const double px = PlaneImager(S.anatomy, S.settings, PlaneKind::Sagittal).image().pixel;
+  const auto [smooth, poly, px] = edges_smooth_and_coarse(x, pose, us::Tissue::Bladder);
   std::printf("sagittal bladder edge over %zu columns (%.1f mm): %.1f mm from its chord; quadratic fit per 4 mm (%zu windows) rms %.2f px "
               "(%.3f mm); the particle triangles: rms %.2f px\n",
               smooth.columns, smooth.columns * px * 1e3, smooth.chord_dev * px * 1e3, smooth.windows, smooth.fit_rms, smooth.fit_rms * px * 1e3,
@@ -210,12 +214,7 @@ TEST(UltrasoundAnatomyPlanes, PubicArchEdgeIsAnArcInTheSagittalPlane) {
   const auto& S = test::us_biopsy_scene();
   const std::vector<float> x = test::rest_positions(*S.model);
   const us::ProbeView pose = default_pose();
-  us::AnatomyOptions coarse_opt;
-  coarse_opt.smooth_subdivisions = 0;
-  const us::UltrasoundAnatomy coarse = us::build_anatomy(*S.model, coarse_opt);
-  const NearEdge smooth = near_edge(S.anatomy, S.settings, x, pose, us::Tissue::Bone);
-  const NearEdge poly = near_edge(coarse, S.settings, x, pose, us::Tissue::Bone);
-  const double px = PlaneImager(S.anatomy, S.settings, PlaneKind::Sagittal).image().pixel;
+  const auto [smooth, poly, px] = edges_smooth_and_coarse(x, pose, us::Tissue::Bone);
   std::printf("sagittal pubic arch edge over %zu columns (%.1f mm): %.1f mm from its chord; quadratic fit per 4 mm (%zu windows) rms %.2f px; "
               "the particle triangles: %zu columns, rms %.2f px\n",
               smooth.columns, smooth.columns * px * 1e3, smooth.chord_dev * px * 1e3, smooth.windows, smooth.fit_rms, poly.columns, poly.fit_rms);

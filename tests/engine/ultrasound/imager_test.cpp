@@ -56,13 +56,7 @@ std::vector<double> ray_hits(const us::UltrasoundAnatomy& an, const us::UsCompon
   return h;
 }
 
-us::UltrasoundScene scene_of(const std::vector<float>& x, const us::ProbeView& probe) {
-  us::UltrasoundScene sc;
-  sc.x = x.data();
-  sc.particle_count = static_cast<int>(x.size() / 3);
-  sc.probe = probe;
-  return sc;
-}
+using test::scene_of;
 
 // bilinear sample of the 8-bit image at continuous pixel (col, row)
 double sample(const us::UsImage& im, double col, double row) {

@@ -49,6 +49,15 @@ inline std::vector<float> rest_positions(const Model& m) {
   return x;
 }
 
+// An ultrasound scene of positions `x` (kept alive by the caller) seen from `probe`.
+inline us::UltrasoundScene scene_of(const std::vector<float>& x, const us::ProbeView& probe) {
+  us::UltrasoundScene sc;
+  sc.x = x.data();
+  sc.particle_count = static_cast<int>(x.size() / 3);
+  sc.probe = probe;
+  return sc;
+}
+
 // The probe moved along its axis by `advance` [m] and rolled by `roll` [rad].
 inline us::ProbeView moved_probe(const us::ProbeView& p, double advance, double roll) {
   us::ProbeView q = p;
